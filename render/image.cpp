@@ -1,1 +1,216 @@
-// placeholder
+// Image storage, PNG I/O (libpng) and image comparison; see image.h.
+//
+// Writing uses libpng's simplified API (png_image_write_to_file), which reports errors in
+// png_image::message instead of longjmp. Reading uses the classic API because it keeps 16-bit
+// samples and does not premultiply alpha; its error longjmp lands in readPngRows, which owns
+// no C++ objects, so no destructor is ever skipped.
+#include "render/image.h"
+
+#include <png.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <system_error>
+
+namespace kurage::render {
+
+Image::Image(int width, int height, const Eigen::Vector4f& fill) : width_(width), height_(height) {
+  if (width < 0 || height < 0) throw std::invalid_argument("Image: negative size");
+  pixels_.assign(static_cast<size_t>(width) * static_cast<size_t>(height), fill);
+}
+
+namespace {
+
+// Clamps to [0,1]; NaN becomes 0.
+double clamp01(double v) { return v > 0.0 ? std::min(v, 1.0) : 0.0; }
+
+png_byte toByte(double v) { return static_cast<png_byte>(std::lround(clamp01(v) * 255.0)); }
+
+// "'path'" (built by appending: GCC 12 gives a false -Wrestrict for "'" + std::string).
+std::string quoted(const std::filesystem::path& path) {
+  std::string text(1, '\'');
+  text += path.string();
+  text += '\'';
+  return text;
+}
+
+}  // namespace
+
+// IEC 61966-2-1 sRGB transfer function (exact piecewise curve, not a 2.2 power).
+float linearToSrgb(float linear) {
+  const double v = clamp01(linear);
+  return static_cast<float>(v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055);
+}
+
+float srgbToLinear(float encoded) {
+  const double v = clamp01(encoded);
+  return static_cast<float>(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
+}
+
+void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha) {
+  if (image.width() <= 0 || image.height() <= 0)
+    throw std::runtime_error("writePng " + quoted(path) + ": empty image");
+  const int channels = withAlpha ? 4 : 3;
+  std::vector<png_byte> bytes(static_cast<size_t>(image.width()) * image.height() * channels);
+  size_t i = 0;
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      const Eigen::Vector4f& p = image.at(x, y);
+      for (int c = 0; c < 3; ++c) bytes[i++] = toByte(linearToSrgb(p[c]));
+      if (withAlpha) bytes[i++] = toByte(p[3]);  // alpha is stored linearly
+    }
+
+  png_image png{};
+  png.version = PNG_IMAGE_VERSION;
+  png.width = static_cast<png_uint_32>(image.width());
+  png.height = static_cast<png_uint_32>(image.height());
+  png.format = withAlpha ? PNG_FORMAT_RGBA : PNG_FORMAT_RGB;  // 8-bit, tagged sRGB
+
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  const bool ok = png_image_write_to_file(&png, tmp.c_str(), 0, bytes.data(), 0, nullptr) != 0;
+  const std::string message = png.message;
+  png_image_free(&png);
+  std::error_code ec;
+  if (!ok) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error("writePng " + quoted(path) + ": " + message);
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error("writePng " + quoted(path) + ": rename failed: " + ec.message());
+  }
+}
+
+namespace {
+
+struct PngError {
+  char message[256] = "unknown libpng error";
+};
+
+void onPngError(png_structp png, png_const_charp message) {
+  auto* error = static_cast<PngError*>(png_get_error_ptr(png));
+  std::snprintf(error->message, sizeof error->message, "%s", message);
+  png_longjmp(png, 1);
+}
+
+void onPngWarning(png_structp, png_const_charp) {}
+
+// Decoded 8- or 16-bit (big-endian) RGBA rows; owned by the caller of readPngRows so that
+// a longjmp out of libpng never skips a destructor.
+struct PngRows {
+  int width = 0, height = 0, bitDepth = 0;
+  std::vector<png_byte> bytes;
+  std::vector<png_bytep> rows;
+};
+
+// Decodes the whole file into `out`. Returns false after a libpng error (message in the
+// error pointer). Only the caller's objects are modified after setjmp.
+bool readPngRows(png_structp png, png_infop info, std::FILE* file, PngRows& out) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_init_io(png, file);
+  png_read_info(png, info);
+  png_set_expand(png);  // palette -> RGB, grey < 8 bit -> 8 bit, tRNS -> alpha
+  png_set_gray_to_rgb(png);
+  if (!(png_get_color_type(png, info) & PNG_COLOR_MASK_ALPHA) && !png_get_valid(png, info, PNG_INFO_tRNS))
+    png_set_add_alpha(png, 0xffff, PNG_FILLER_AFTER);  // opaque; truncated to 0xff at 8 bit
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  if (png_get_channels(png, info) != 4) png_error(png, "unexpected channel count after expansion");
+  out.width = static_cast<int>(png_get_image_width(png, info));
+  out.height = static_cast<int>(png_get_image_height(png, info));
+  out.bitDepth = png_get_bit_depth(png, info);
+  const size_t rowBytes = png_get_rowbytes(png, info);
+  out.bytes.resize(rowBytes * static_cast<size_t>(out.height));
+  out.rows.resize(static_cast<size_t>(out.height));
+  for (int y = 0; y < out.height; ++y) out.rows[static_cast<size_t>(y)] = out.bytes.data() + rowBytes * y;
+  png_read_image(png, out.rows.data());
+  png_read_end(png, nullptr);
+  return true;
+}
+
+}  // namespace
+
+Image readPng(const std::filesystem::path& path) {
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!file) throw std::runtime_error("readPng " + quoted(path) + ": cannot open file");
+  png_byte signature[8] = {};
+  if (std::fread(signature, 1, 8, file.get()) != 8 || png_sig_cmp(signature, 0, 8) != 0)
+    throw std::runtime_error("readPng " + quoted(path) + ": not a PNG file");
+  std::rewind(file.get());
+
+  PngError error;
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &error, onPngError, onPngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  PngRows decoded;
+  const bool ok = info && readPngRows(png, info, file.get(), decoded);
+  png_destroy_read_struct(&png, &info, nullptr);
+  if (!ok) throw std::runtime_error("readPng " + quoted(path) + ": " + error.message);
+
+  // Colour samples are sRGB-encoded; alpha is linear.
+  Image image(decoded.width, decoded.height);
+  const double maxValue = decoded.bitDepth == 16 ? 65535.0 : 255.0;
+  for (int y = 0; y < decoded.height; ++y) {
+    const png_byte* row = decoded.rows[static_cast<size_t>(y)];
+    for (int x = 0; x < decoded.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const int v = decoded.bitDepth == 16 ? (row[(4 * x + c) * 2] << 8) | row[(4 * x + c) * 2 + 1]
+                                             : row[4 * x + c];
+        const float f = static_cast<float>(v / maxValue);
+        image.at(x, y)[c] = c < 3 ? srgbToLinear(f) : f;
+      }
+  }
+  return image;
+}
+
+CompareResult compareImages(const Image& actual, const Image& reference, const CompareOptions& options) {
+  CompareResult result;
+  result.sizesMatch = actual.width() == reference.width() && actual.height() == reference.height();
+  if (!result.sizesMatch) return result;
+  const size_t pixels = static_cast<size_t>(actual.width()) * actual.height();
+  if (pixels == 0) {
+    result.failingFraction = 0.0;
+    result.passed = true;
+    return result;
+  }
+  size_t failing = 0;
+  double sum = 0.0;
+  for (int y = 0; y < actual.height(); ++y)
+    for (int x = 0; x < actual.width(); ++x) {
+      double worst = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const double d = std::abs(double(linearToSrgb(actual.at(x, y)[c])) - linearToSrgb(reference.at(x, y)[c]));
+        sum += d;
+        worst = std::max(worst, d);
+      }
+      result.maxError = std::max(result.maxError, worst);
+      if (worst > options.pixelThreshold) ++failing;
+    }
+  result.failingFraction = static_cast<double>(failing) / static_cast<double>(pixels);
+  result.meanError = sum / (3.0 * static_cast<double>(pixels));
+  // The allowed fraction is a float (0.01f < 0.01): allow for its rounding so that exactly
+  // 1 % failing passes at 1 %.
+  result.passed = result.failingFraction <= double(options.allowedFailingFraction) * (1.0 + 1e-6);
+  return result;
+}
+
+Image differenceImage(const Image& actual, const Image& reference, float gain) {
+  if (actual.width() != reference.width() || actual.height() != reference.height())
+    throw std::invalid_argument("differenceImage: image sizes differ");
+  Image diff(actual.width(), actual.height());
+  for (int y = 0; y < actual.height(); ++y)
+    for (int x = 0; x < actual.width(); ++x)
+      for (int c = 0; c < 3; ++c) {
+        const float d = std::abs(linearToSrgb(actual.at(x, y)[c]) - linearToSrgb(reference.at(x, y)[c]));
+        // Stored linear so that the written PNG shows gain * |difference| as its sRGB value.
+        diff.at(x, y)[c] = srgbToLinear(gain * d);
+      }
+  return diff;
+}
+
+}  // namespace kurage::render
