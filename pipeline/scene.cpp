@@ -1,1 +1,121 @@
-// placeholder
+#include "pipeline/scene.h"
+
+#include "pipeline/scene_params.h"
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace kurage::pipeline {
+
+int OutputParams::frameCount() const { return static_cast<int>(std::floor(double(duration) * fps + 1e-6)) + 1; }
+
+namespace {
+
+std::string vec(const Eigen::Vector3f& v) {
+  std::ostringstream s;
+  s << "[" << v.x() << ", " << v.y() << ", " << v.z() << "]";
+  return s.str();
+}
+
+// Checks that need more than one field: they name the JSON path of the offending value.
+void validate(const Scene& scene, const std::string& file) {
+  auto fail = [&file](const std::string& path, const std::string& message) { throw SceneError(file, path, message); };
+  const sim::SimParams& sim = scene.sim;
+  const sim::ContainerParams& box = sim.container;
+  const float h = sim.fluid.supportRadiusMetres();
+  for (int a = 0; a < 3; ++a)
+    if (!(box.max[a] > box.min[a]))
+      fail("container.max", "must exceed container.min on every axis, got min " + vec(box.min) + ", max " + vec(box.max));
+  if ((box.max - box.min).minCoeff() < h) {
+    std::ostringstream s;
+    s << "the container is smaller than the support radius h = " << h << " m on some axis (size "
+      << vec(box.max - box.min) << ")";
+    fail("container", s.str());
+  }
+  const float tolerance = 1e-4f * sim.fluid.spacing;
+  for (size_t i = 0; i < sim.fluidBlocks.size(); ++i) {
+    const sim::FluidBlock& b = sim.fluidBlocks[i];
+    const std::string path = "fluid_blocks[" + std::to_string(i) + "]";
+    for (int a = 0; a < 3; ++a)
+      if (!(b.max[a] > b.min[a])) fail(path + ".max", "must exceed min on every axis, got min " + vec(b.min) + ", max " + vec(b.max));
+    if ((b.min.array() < box.min.array() - tolerance).any() || (b.max.array() > box.max.array() + tolerance).any())
+      fail(path, "lies outside the container " + vec(box.min) + " - " + vec(box.max));
+    if (((b.max - b.min).array() < sim.fluid.spacing * (1.0f - 1e-4f)).any())
+      fail(path, "is thinner than one particle spacing on some axis, so it holds no particle");
+    for (size_t k = 0; k < i; ++k) {
+      const sim::FluidBlock& o = sim.fluidBlocks[k];
+      const bool overlap = ((b.min.array() < o.max.array() - tolerance) && (o.min.array() < b.max.array() - tolerance)).all();
+      if (overlap) fail(path, "overlaps fluid_blocks[" + std::to_string(k) + "]");
+    }
+  }
+  const sim::TimeStepParams& ts = sim.timeStep;
+  if (ts.minStep > ts.maxStep) fail("time_step.min_step", "must not exceed time_step.max_step");
+  const render::Camera& cam = scene.render.camera;
+  if ((cam.position - cam.lookAt).norm() <= 0.0f) fail("render.camera.look_at", "must differ from the camera position");
+  if (cam.up.cross(cam.lookAt - cam.position).norm() <= 1e-6f * cam.up.norm() * (cam.lookAt - cam.position).norm())
+    fail("render.camera.up", "must not be parallel to the viewing direction");
+  if (scene.render.light.direction.norm() <= 0.0f) fail("render.light.direction", "must not be zero");
+  if (scene.render.ground.normal.norm() <= 0.0f) fail("render.ground.normal", "must not be zero");
+  const render::MetaballParams& blob = scene.surface.fluid;
+  if (blob.threshold >= blob.strength)
+    fail("surface.fluid.threshold", "must be below the blob strength, or a single particle has no surface");
+  if (blob.voxelSize >= blob.radius) fail("surface.fluid.voxel_size", "must be smaller than surface.fluid.radius");
+}
+
+}  // namespace
+
+Scene parseScene(const nlohmann::json& document, const std::string& file) {
+  if (!document.is_object()) throw SceneError(file, "", "a scene must be a JSON object");
+  Scene scene;
+  JsonReader reader(document, file, "");
+  describe(reader, scene);
+  reader.finish();
+  validate(scene, file);
+  return scene;
+}
+
+Scene loadScene(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw SceneError(file.string(), "", "cannot open the scene file");
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    // Turn the byte offset into a line and column.
+    const std::string s = text.str();
+    size_t line = 1, column = 1;
+    for (size_t i = 0; i + 1 < e.byte && i < s.size(); ++i) {
+      if (s[i] == '\n') { ++line; column = 1; } else { ++column; }
+    }
+    throw SceneError(file.string(), "", "invalid JSON at line " + std::to_string(line) + ", column " +
+                                             std::to_string(column) + ": " + e.what());
+  }
+  return parseScene(document, file.string());
+}
+
+nlohmann::json sceneToJson(const Scene& scene) {
+  Scene copy = scene;
+  nlohmann::json out;
+  JsonWriter writer(out);
+  describe(writer, copy);
+  return out;
+}
+
+nlohmann::json sceneSchema() {
+  Scene defaults;
+  nlohmann::json schema;
+  SchemaWriter writer(schema);
+  describe(writer, defaults);
+  nlohmann::json document = {
+      {"$schema", "https://json-schema.org/draft/2020-12/schema"},
+      {"title", "kurage scene"},
+      {"description", "A kurage scene: fluid, container, output, surfacing and rendering parameters. "
+                      "Generated by `kurage schema`; do not edit by hand."}};
+  document.update(schema);
+  return document;
+}
+
+}  // namespace kurage::pipeline

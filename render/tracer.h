@@ -25,7 +25,7 @@ struct Camera {
 
 struct DirectionalLight {
   Eigen::Vector3f direction{-0.4f, -0.3f, -1.0f};  // direction the light travels (need not be unit)
-  Eigen::Vector3f radiance{2.5f, 2.4f, 2.2f};      // irradiance on a surface facing the light
+  Eigen::Vector3f radiance{1.1f, 1.05f, 0.95f};      // irradiance on a surface facing the light
 };
 
 struct Material {

@@ -1,1 +1,132 @@
-// placeholder
+#include "sim/fluid.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace kurage::sim {
+
+namespace {
+constexpr size_t kGrain = 512;
+
+template <class Body>
+void forEachParticle(size_t count, Body&& body) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    std::array<std::array<uint32_t, 2>, 9> ranges;
+    for (size_t i = r.begin(); i != r.end(); ++i) body(i, ranges);
+  });
+}
+}  // namespace
+
+void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6) {
+  const float* x = particles.x.data();
+  const float* y = particles.y.data();
+  const float* z = particles.z.data();
+  const float* m = particles.mass.data();
+  float* rho = particles.density.data();
+  const float h2 = poly6.h2;
+  const std::vector<uint32_t>& cells = grid.cellOfSorted();
+  forEachParticle(particles.size(), [&](size_t i, auto& ranges) {
+    const float xi = x[i], yi = y[i], zi = z[i];
+    float sum = 0.0f;
+    const int n = grid.candidateRanges(cells[i], ranges);
+    for (int r = 0; r < n; ++r)
+      for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
+        const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
+        const float r2 = dx * dx + dy * dy + dz * dz;
+        const float t = std::max(h2 - r2, 0.0f);  // branch-free: zero outside the support
+        sum += m[j] * t * t * t;
+      }
+    rho[i] = poly6.coefficient * sum;  // (3)
+  });
+}
+
+void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure) {
+  const size_t n = particles.size();
+  const float* rho = particles.density.data();
+  const float* rho0 = particles.restDensity.data();
+  float* p = particles.pressure.data();
+  const bool clamp = negativePressure == NegativePressure::Clamp;
+  for (size_t i = 0; i < n; ++i) {
+    const float value = pressureStiffness * (rho[i] - rho0[i]);  // (4)
+    p[i] = clamp ? std::max(value, 0.0f) : value;
+  }
+}
+
+void computeFluidAcceleration(const NeighborGrid& grid, ParticleSet& particles, const SpikyKernel& spiky,
+                              const ViscosityKernel& viscosity, float dynamicViscosity,
+                              const Eigen::Vector3f& gravity) {
+  const float* x = particles.x.data();
+  const float* y = particles.y.data();
+  const float* z = particles.z.data();
+  const float* vx = particles.vx.data();
+  const float* vy = particles.vy.data();
+  const float* vz = particles.vz.data();
+  const float* m = particles.mass.data();
+  const float* rho = particles.density.data();
+  const float* p = particles.pressure.data();
+  const int64_t* id = particles.id.data();
+  float* ax = particles.ax.data();
+  float* ay = particles.ay.data();
+  float* az = particles.az.data();
+  const float h = spiky.h;
+  const float h2 = h * h;
+  // Both kernels share the factor 45 / (pi h^6).
+  const float gradC = spiky.gradientCoefficient;
+  const float lapC = viscosity.laplacianCoefficient * dynamicViscosity;
+  const float tiny2 = 1e-12f * h2;
+  const std::vector<uint32_t>& cells = grid.cellOfSorted();
+  forEachParticle(particles.size(), [&](size_t i, auto& ranges) {
+    const float xi = x[i], yi = y[i], zi = z[i];
+    const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
+    const float pi = p[i];
+    float fpx = 0, fpy = 0, fpz = 0;  // pressure force density / (45 / (pi h^6))
+    float fvx = 0, fvy = 0, fvz = 0;  // viscosity force density / (mu 45 / (pi h^6))
+    const int n = grid.candidateRanges(cells[i], ranges);
+    for (int r = 0; r < n; ++r)
+      for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
+        // r_vec = r_i - r_j
+        const float dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
+        const float r2 = dx * dx + dy * dy + dz * dz;
+        if (r2 >= h2 || j == i) continue;
+        const float mOverRho = m[j] / rho[j];
+        float ux, uy, uz, dist;
+        if (r2 > tiny2) {
+          dist = std::sqrt(r2);
+          const float inv = 1.0f / dist;
+          ux = dx * inv; uy = dy * inv; uz = dz * inv;
+        } else {  // coincident particles: separate them along x, ordered by id
+          dist = 0.0f;
+          ux = id[i] < id[j] ? -1.0f : 1.0f; uy = 0.0f; uz = 0.0f;
+        }
+        const float t = h - dist;
+        // (5): -m_j (p_i + p_j) / (2 rho_j) * (-45/(pi h^6)) (h - r)^2 r_hat
+        const float press = 0.5f * mOverRho * (pi + p[j]) * t * t;
+        fpx += press * ux; fpy += press * uy; fpz += press * uz;
+        // (6): mu m_j (v_j - v_i) / rho_j * 45/(pi h^6) (h - r)
+        const float visc = mOverRho * t;
+        fvx += visc * (vx[j] - vxi); fvy += visc * (vy[j] - vyi); fvz += visc * (vz[j] - vzi);
+      }
+    const float invRho = 1.0f / rho[i];
+    ax[i] = (gradC * fpx + lapC * fvx) * invRho + gravity.x();
+    ay[i] = (gradC * fpy + lapC * fvy) * invRho + gravity.y();
+    az[i] = (gradC * fpz + lapC * fvz) * invRho + gravity.z();
+  });
+}
+
+float calibratedParticleMass(float spacing, float supportRadius, float restDensity) {
+  const Poly6Kernel poly6(supportRadius);
+  const int reach = static_cast<int>(std::ceil(supportRadius / spacing));
+  double sum = 0.0;
+  for (int k = -reach; k <= reach; ++k)
+    for (int j = -reach; j <= reach; ++j)
+      for (int i = -reach; i <= reach; ++i) {
+        const double r2 = double(spacing) * spacing * (i * i + j * j + k * k);
+        sum += poly6.fromSquared(float(r2));
+      }
+  return float(restDensity / sum);
+}
+
+}  // namespace kurage::sim

@@ -1,1 +1,183 @@
-// placeholder
+#include "sim/simulation.h"
+
+#include "sim/boundary.h"
+#include "sim/fluid.h"
+#include "sim/setup.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+namespace kurage::sim {
+
+std::string_view stageName(Stage stage) {
+  switch (stage) {
+    case Stage::Sort: return "neighbour_sort";
+    case Stage::Density: return "density";
+    case Stage::Pressure: return "pressure";
+    case Stage::Forces: return "pressure_viscosity_forces";
+    case Stage::Integrate: return "integrate";
+    case Stage::Walls: return "walls";
+    case Stage::Count: break;
+  }
+  return "?";
+}
+
+namespace {
+class StageTimer {
+public:
+  StageTimer(SimStats& stats, Stage stage) : stats_(stats), stage_(stage), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() {
+    stats_.stageSeconds[size_t(stage_)] +=
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+private:
+  SimStats& stats_;
+  Stage stage_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// Largest value of f(i) over all particles; max is exact, so the result is deterministic.
+template <class F>
+float maxOver(size_t count, F&& f) {
+  return tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, count, 4096), 0.0f,
+      [&](const tbb::blocked_range<size_t>& r, float m) {
+        for (size_t i = r.begin(); i != r.end(); ++i) m = std::max(m, f(i));
+        return m;
+      },
+      [](float a, float b) { return std::max(a, b); });
+}
+}  // namespace
+
+Simulation::Simulation(SimParams params)
+    : params_(std::move(params)),
+      poly6_(params_.fluid.supportRadiusMetres()),
+      spiky_(params_.fluid.supportRadiusMetres()),
+      viscosity_(params_.fluid.supportRadiusMetres()) {
+  const FluidParams& fluid = params_.fluid;
+  if (!(fluid.spacing > 0.0f) || !(fluid.supportRadius > 0.0f) || !(fluid.restDensity > 0.0f))
+    throw std::invalid_argument("simulation: spacing, support radius and rest density must be > 0");
+  grid_.configure(params_.container.min, params_.container.max, fluid.supportRadiusMetres());
+  fluidMass_ = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity);
+  int64_t nextId = 0;
+  for (const FluidBlock& block : params_.fluidBlocks)
+    addFluidBlock(particles_, block, fluid.spacing, fluid.restDensity, fluidMass_, nextId);
+}
+
+float FluidParams::speedOfSound() const { return std::sqrt(pressureStiffness); }
+
+void Simulation::sortParticles() {
+  StageTimer timer(stats_, Stage::Sort);
+  grid_.sort(particles_.x.data(), particles_.y.data(), particles_.z.data(), particles_.size(), order_);
+  particles_.permute(order_, scratch_);
+}
+
+void Simulation::computeAccelerations() {
+  sortParticles();
+  {
+    StageTimer timer(stats_, Stage::Density);
+    computeDensity(grid_, particles_, poly6_);
+  }
+  {
+    StageTimer timer(stats_, Stage::Pressure);
+    computePressure(particles_, params_.fluid.pressureStiffness, params_.fluid.negativePressure);
+  }
+  {
+    StageTimer timer(stats_, Stage::Forces);
+    const float mu = params_.fluid.restDensity * params_.fluid.kinematicViscosity;  // mu = rho0 nu
+    computeFluidAcceleration(grid_, particles_, spiky_, viscosity_, mu, params_.gravity);
+  }
+  accelerationsValid_ = true;
+}
+
+void Simulation::integrate(float dt) {
+  {
+    StageTimer timer(stats_, Stage::Integrate);
+    ParticleSet& p = particles_;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        // (12) v* = v + a dt, (13) x* = x + v* dt: symplectic Euler
+        p.vx[i] += p.ax[i] * dt; p.vy[i] += p.ay[i] * dt; p.vz[i] += p.az[i] * dt;
+        p.x[i] += p.vx[i] * dt; p.y[i] += p.vy[i] * dt; p.z[i] += p.vz[i] * dt;
+      }
+    });
+  }
+  {
+    StageTimer timer(stats_, Stage::Walls);
+    enforceBoxWalls(particles_, params_.container);  // (15)
+  }
+  accelerationsValid_ = false;
+  time_ += dt;
+  ++stats_.steps;
+  if (stats_.steps == 1 || dt < stats_.minStep) stats_.minStep = dt;
+  if (dt > stats_.maxStep) stats_.maxStep = dt;
+}
+
+void Simulation::step(float dt) {
+  computeAccelerations();
+  integrate(dt);
+}
+
+StepLimit Simulation::nextStepLimit() const {
+  const TimeStepParams& ts = params_.timeStep;
+  if (ts.mode == TimeStepMode::Fixed) return {ts.fixedStep, StepBound::Fixed};
+  const ParticleSet& p = particles_;
+  StepInputs in;
+  in.supportRadius = params_.fluid.supportRadiusMetres();
+  in.speedOfSound = params_.fluid.speedOfSound();
+  in.kinematicViscosity = params_.fluid.kinematicViscosity;
+  in.maxSpeed = std::sqrt(maxOver(p.size(), [&](size_t i) {
+    return p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+  }));
+  in.maxAcceleration = std::sqrt(maxOver(p.size(), [&](size_t i) {
+    return p.ax[i] * p.ax[i] + p.ay[i] * p.ay[i] + p.az[i] * p.az[i];
+  }));
+  return adaptiveStep(ts, in);
+}
+
+StepLimit Simulation::stabilityLimit() const {
+  StepInputs in;
+  in.supportRadius = params_.fluid.supportRadiusMetres();
+  in.speedOfSound = params_.fluid.speedOfSound();
+  in.kinematicViscosity = params_.fluid.kinematicViscosity;
+  in.maxAcceleration = params_.gravity.norm();
+  return stabilityBound(params_.timeStep, in);
+}
+
+void Simulation::advanceTo(double t) {
+  while (time_ < t) {
+    computeAccelerations();
+    const StepLimit limit = nextStepLimit();
+    if (!(limit.step >= params_.timeStep.minStep) && params_.timeStep.mode == TimeStepMode::Adaptive) {
+      std::ostringstream msg;
+      msg << "time " << time_ << " s: the " << stepBoundName(limit.bound) << " bound asks for a step of "
+          << limit.step << " s, below the floor time_step.min_step = " << params_.timeStep.minStep << " s";
+      throw SimulationError(msg.str());
+    }
+    const double remaining = t - time_;
+    float dt = limit.step;
+    if (remaining <= dt) dt = float(remaining);                    // land exactly on the frame
+    else if (remaining < 1.5 * dt) dt = float(0.5 * remaining);    // avoid a sliver step
+    ++stats_.boundCounts[size_t(limit.bound)];
+    integrate(dt);
+    if (remaining <= limit.step) time_ = t;  // exact frame time, free of rounding
+    const float vmax = maxOver(particles_.size(), [&](size_t i) {
+      const float s = std::fabs(particles_.vx[i]) + std::fabs(particles_.vy[i]) + std::fabs(particles_.vz[i]);
+      return std::isfinite(s) ? s : std::numeric_limits<float>::infinity();
+    });
+    if (!std::isfinite(vmax)) {
+      std::ostringstream msg;
+      msg << "time " << time_ << " s: a particle velocity became non-finite (the step " << dt
+          << " s is too large for the scene's stiffness; try a smaller time_step)";
+      throw SimulationError(msg.str());
+    }
+  }
+}
+
+}  // namespace kurage::sim

@@ -1,0 +1,234 @@
+// The parameter registry's vocabulary: a field's unit, documentation and valid range, and the
+// visitors that walk a parameter struct's describe() function. One describe() per component
+// (pipeline/scene_params.h) drives three visitors:
+//   JsonReader   strict loading: unknown keys, wrong types, missing required values and values
+//                out of range are errors naming the file and the JSON path
+//   JsonWriter   the parameters in effect after defaults (run.json)
+//   SchemaWriter the JSON Schema of scenes (scenes/schema.json), defaults taken from the structs
+// so the loader, the schema and the defaults cannot drift apart.
+#pragma once
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <optional>
+#include <set>
+#include <type_traits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace kurage::pipeline {
+
+// A scene error: names the file and the JSON path, e.g.
+//   scenes/dam_break.json: fluid.spacing: must be > 0, got -3
+class SceneError : public std::runtime_error {
+public:
+  SceneError(std::string file, std::string jsonPath, std::string message);
+  const std::string& file() const { return file_; }
+  const std::string& jsonPath() const { return path_; }
+  const std::string& message() const { return message_; }
+
+private:
+  std::string file_, path_, message_;
+};
+
+struct Range {
+  std::optional<double> min, max;
+  bool minExclusive = false, maxExclusive = false;
+};
+inline Range positive() { return {0.0, std::nullopt, true, false}; }
+inline Range nonNegative() { return {0.0, std::nullopt, false, false}; }
+inline Range atLeast(double v) { return {v, std::nullopt, false, false}; }
+inline Range between(double a, double b) { return {a, b, false, false}; }
+inline Range anyValue() { return {}; }
+
+struct Field {
+  const char* unit = "";  // SI unit, or "" for dimensionless
+  const char* doc = "";
+  Range range = {};
+  bool required = false;
+};
+
+// The shortest decimal that reads back as the same float, as a double (0.3f -> 0.3), so that
+// JSON output shows the numbers a user wrote.
+double tidyFloat(float v);
+
+template <class E>
+using EnumTable = std::vector<std::pair<const char*, E>>;
+
+// ---------------------------------------------------------------------------------------------
+// Strict reader.
+class JsonReader {
+public:
+  JsonReader(const nlohmann::json& object, std::string file, std::string path);
+
+  void value(const char* key, float& ref, const Field& f) { number(key, ref, f, false); }
+  void value(const char* key, double& ref, const Field& f) { number(key, ref, f, false); }
+  void value(const char* key, int& ref, const Field& f) { number(key, ref, f, true); }
+  void value(const char* key, bool& ref, const Field& f);
+  void value(const char* key, std::string& ref, const Field& f);
+  void value(const char* key, Eigen::Vector3f& ref, const Field& f);
+
+  template <class E>
+  void enumeration(const char* key, E& ref, const EnumTable<E>& table, const Field& f) {
+    const nlohmann::json* j = find(key, f);
+    if (!j) return;
+    if (j->is_string()) {
+      for (const auto& [name, e] : table)
+        if (*j == name) { ref = e; return; }
+    }
+    std::string names;
+    for (const auto& [name, e] : table) names += (names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
+    fail(key, "must be one of " + names + ", got " + j->dump());
+  }
+
+  template <class T>
+  void object(const char* key, T& ref, const Field& f) {
+    const nlohmann::json* j = find(key, f);
+    if (!j) return;
+    if (!j->is_object()) fail(key, "must be an object, got " + j->dump());
+    JsonReader child(*j, file_, childPath(key));
+    describe(child, ref);
+    child.finish();
+  }
+
+  template <class T>
+  void list(const char* key, std::vector<T>& ref, const Field& f) {
+    const nlohmann::json* j = find(key, f);
+    if (!j) return;
+    if (!j->is_array()) fail(key, "must be an array, got " + j->dump());
+    ref.clear();
+    for (size_t i = 0; i < j->size(); ++i) {
+      const std::string itemPath = childPath(key) + "[" + std::to_string(i) + "]";
+      if (!(*j)[i].is_object()) throw SceneError(file_, itemPath, "must be an object, got " + (*j)[i].dump());
+      T item{};
+      JsonReader child((*j)[i], file_, itemPath);
+      describe(child, item);
+      child.finish();
+      ref.push_back(std::move(item));
+    }
+  }
+
+  // Keys that are allowed but carry no parameter (e.g. "$schema").
+  void ignore(const char* key) { seen_.insert(key); }
+
+  // Refuses every key that no describe() call asked for.
+  void finish() const;
+
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const;
+  std::string childPath(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  const std::string& file() const { return file_; }
+
+private:
+  const nlohmann::json* find(const char* key, const Field& f);
+  template <class T>
+  void number(const char* key, T& ref, const Field& f, bool integral);
+  void checkRange(const char* key, double v, const Range& r) const;
+
+  const nlohmann::json& object_;
+  std::string file_, path_;
+  std::set<std::string> seen_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Writes values as JSON (parameters in effect).
+class JsonWriter {
+public:
+  explicit JsonWriter(nlohmann::json& out) : out_(out) { out_ = nlohmann::json::object(); }
+  template <class T>
+  void value(const char* key, const T& ref, const Field&) { out_[key] = ref; }
+  void value(const char* key, const float& ref, const Field&) { out_[key] = tidyFloat(ref); }
+  void value(const char* key, const Eigen::Vector3f& ref, const Field&) {
+    out_[key] = {tidyFloat(ref.x()), tidyFloat(ref.y()), tidyFloat(ref.z())};
+  }
+  template <class E>
+  void enumeration(const char* key, const E& ref, const EnumTable<E>& table, const Field&) {
+    for (const auto& [name, e] : table)
+      if (e == ref) out_[key] = name;
+  }
+  template <class T>
+  void object(const char* key, T& ref, const Field&) {
+    JsonWriter child(out_[key]);
+    describe(child, ref);
+  }
+  template <class T>
+  void list(const char* key, std::vector<T>& ref, const Field&) {
+    nlohmann::json array = nlohmann::json::array();
+    for (T& item : ref) {
+      nlohmann::json j;
+      JsonWriter child(j);
+      describe(child, item);
+      array.push_back(std::move(j));
+    }
+    out_[key] = std::move(array);
+  }
+  void ignore(const char*) {}
+
+private:
+  nlohmann::json& out_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Writes the JSON Schema (draft 2020-12) of a describe() function; defaults are the struct's.
+class SchemaWriter {
+public:
+  explicit SchemaWriter(nlohmann::json& out);
+  void value(const char* key, const float& ref, const Field& f) { numberSchema(key, ref, f, "number"); }
+  void value(const char* key, const double& ref, const Field& f) { numberSchema(key, ref, f, "number"); }
+  void value(const char* key, const int& ref, const Field& f) { numberSchema(key, ref, f, "integer"); }
+  void value(const char* key, const bool& ref, const Field& f);
+  void value(const char* key, const std::string& ref, const Field& f);
+  void value(const char* key, const Eigen::Vector3f& ref, const Field& f);
+  template <class E>
+  void enumeration(const char* key, const E& ref, const EnumTable<E>& table, const Field& f) {
+    nlohmann::json s = base(f);
+    s["type"] = "string";
+    s["enum"] = nlohmann::json::array();
+    for (const auto& [name, e] : table) {
+      s["enum"].push_back(name);
+      if (e == ref) s["default"] = name;
+    }
+    add(key, std::move(s), f);
+  }
+  template <class T>
+  void object(const char* key, T& ref, const Field& f) {
+    nlohmann::json s;
+    SchemaWriter child(s);
+    describe(child, ref);
+    s["description"] = f.doc;
+    add(key, std::move(s), f);
+  }
+  template <class T>
+  void list(const char* key, std::vector<T>&, const Field& f) {
+    nlohmann::json item;
+    T prototype{};
+    SchemaWriter child(item);
+    describe(child, prototype);
+    nlohmann::json s = base(f);
+    s["type"] = "array";
+    s["items"] = std::move(item);
+    add(key, std::move(s), f);
+  }
+  void ignore(const char* key);
+
+private:
+  nlohmann::json base(const Field& f) const;
+  void add(const char* key, nlohmann::json schema, const Field& f);
+  template <class T>
+  void numberSchema(const char* key, T ref, const Field& f, const char* type) {
+    nlohmann::json s = base(f);
+    s["type"] = type;
+    if constexpr (std::is_same_v<T, float>) s["default"] = tidyFloat(ref);
+    else s["default"] = ref;
+    if (f.range.min) s[f.range.minExclusive ? "exclusiveMinimum" : "minimum"] = *f.range.min;
+    if (f.range.max) s[f.range.maxExclusive ? "exclusiveMaximum" : "maximum"] = *f.range.max;
+    add(key, std::move(s), f);
+  }
+
+  nlohmann::json& out_;
+};
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,57 @@
+// The pipeline's stages. Each reads the files of the stage before from the output folder and
+// writes its own, one file per frame, atomically:
+//   sim      scene               -> OUT/particles/NNNN.vdb  (particle caches)
+//   surface  OUT/particles/*.vdb -> OUT/surfaces/NNNN.vdb   (metaball level sets per material)
+//   render   OUT/surfaces/*.vdb  -> OUT/frames/NNNN.png
+// and OUT/run.json records the parameters in effect, library versions and stage timings.
+#pragma once
+
+#include "pipeline/scene.h"
+#include "render/image.h"
+#include "render/surfacing.h"
+#include "sim/particles.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace kurage::pipeline {
+
+struct StageOptions {
+  std::filesystem::path outDir;
+  int firstFrame = 0;
+  int lastFrame = -1;  // -1: the scene's last frame
+  bool progress = false;
+};
+
+// The frames [first, last] a stage works on, checked against the scene. Throws
+// std::invalid_argument for a range outside 0 .. frameCount-1.
+std::pair<int, int> frameRange(const Scene& scene, const StageOptions& options);
+
+// OUT/run.json, read if it exists (so single-stage commands add to it) and rewritten atomically.
+class RunRecord {
+public:
+  RunRecord(const std::filesystem::path& outDir, const Scene& scene, const std::string& sceneFile);
+  nlohmann::json& data() { return data_; }
+  void setStage(const std::string& name, nlohmann::json stage);
+  void save() const;
+
+private:
+  std::filesystem::path path_;
+  nlohmann::json data_;
+};
+
+// Versions of kurage and the libraries it uses.
+nlohmann::json versionInfo();
+
+void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& record);
+void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord& record);
+void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& record);
+
+// Pieces of the stages, for tests and tools.
+std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
+render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces);
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,33 @@
+// The SPH fluid terms of SPEC §1, after Mueller et al. 2003, over a cell-sorted ParticleSet.
+// Every particle (fluid or body) takes part in these sums: the paper's weak coupling.
+// Each particle's sum runs over its candidates in a fixed order, so the result does not depend
+// on the number of threads.
+#pragma once
+
+#include "sim/kernels.h"
+#include "sim/neighbor_grid.h"
+#include "sim/params.h"
+#include "sim/particles.h"
+
+namespace kurage::sim {
+
+// (3) rho_i = sum_j m_j W_poly6(r_ij)
+void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6);
+
+// (4) p_i = k_press (rho_i - rho0_i), clamped at zero when the scene asks for it (SPEC §8).
+void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure);
+
+// (5) f_i^press = -sum_j m_j (p_i + p_j) / (2 rho_j) grad W_spiky(r_i - r_j)
+// (6) f_i^vis   = mu sum_j m_j (v_j - v_i) / rho_j lap W_visc(|r_ij|),  mu = rho0 nu
+// writes a_i = (f_i^press + f_i^vis) / rho_i + gravity  (force densities divided by density).
+// Two particles at the same position push each other apart along +-x, ordered by id, so the
+// result stays finite and symmetric.
+void computeFluidAcceleration(const NeighborGrid& grid, ParticleSet& particles, const SpikyKernel& spiky,
+                              const ViscosityKernel& viscosity, float dynamicViscosity,
+                              const Eigen::Vector3f& gravity);
+
+// Mass that gives a particle deep inside a cubic lattice of the given spacing exactly the
+// rest density with the poly6 kernel (SPEC §1, our calibration): m = rho0 / sum_j W(r_j).
+float calibratedParticleMass(float spacing, float supportRadius, float restDensity);
+
+}  // namespace kurage::sim

@@ -1,0 +1,48 @@
+// Bucket (uniform grid) neighbour search (SPEC §1): particles are binned into cubic cells of
+// edge >= h and re-sorted by cell with a counting sort, so that the candidates of a particle
+// (its own cell and the 26 adjacent ones) are nine contiguous index ranges, one per (y, z)
+// row of three cells along x. Cells are indexed x-fastest.
+//
+// The grid covers a fixed box (the container); positions outside it are clamped into the
+// border cells, which keeps the search correct (only slower) for stray particles.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace kurage::sim {
+
+class NeighborGrid {
+public:
+  // Covers [boxMin, boxMax] with cells of edge at least minCellSize (metres).
+  void configure(const Eigen::Vector3f& boxMin, const Eigen::Vector3f& boxMax, float minCellSize);
+
+  // Computes each particle's cell and the counting-sort order (order[k] = old index of the
+  // particle that goes to position k). Afterwards cellStart() is valid for the sorted order.
+  void sort(const float* x, const float* y, const float* z, size_t count, std::vector<uint32_t>& order);
+
+  // After sort(): cellOfSorted()[k] is the cell of the k-th particle in sorted order.
+  const std::vector<uint32_t>& cellOfSorted() const { return sortedCell_; }
+
+  // The nine contiguous index ranges [begin, end) that hold every candidate neighbour of a
+  // particle in `cell`. Returns how many ranges were written (rows outside the grid are skipped).
+  int candidateRanges(uint32_t cell, std::array<std::array<uint32_t, 2>, 9>& ranges) const;
+
+  Eigen::Vector3i dims() const { return dims_; }
+  float cellSize() const { return cellSize_; }
+  uint32_t cellIndex(float x, float y, float z) const;
+
+private:
+  Eigen::Vector3f origin_{0, 0, 0};
+  Eigen::Vector3i dims_{1, 1, 1};
+  float cellSize_ = 1.0f;
+  float inverseCellSize_ = 1.0f;
+  std::vector<uint32_t> cellStart_;  // size cells + 1
+  std::vector<uint32_t> cellOf_;     // by old index
+  std::vector<uint32_t> sortedCell_; // by sorted index
+};
+
+}  // namespace kurage::sim

@@ -1,0 +1,41 @@
+// Time step control (SPEC §1, our decision): a fixed step, or an adaptive one bounded by
+//   CFL:      dt <= c_cfl  * h / (c + |v|max),  c = sqrt(k_press)
+//   viscous:  dt <= c_visc * h^2 / nu
+//   force:    dt <= c_f    * sqrt(h / |a|max)
+//   spring:   dt <= c_spr  * sqrt(m / k_eff) of the stiffest body (when bodies exist)
+// and the user's maximum step. The active bound is reported so users can see what limits speed.
+#pragma once
+
+#include "sim/params.h"
+
+#include <array>
+#include <string_view>
+
+namespace kurage::sim {
+
+enum class StepBound { Fixed, Cfl, Viscous, Force, Spring, Maximum, Count };
+
+std::string_view stepBoundName(StepBound bound);
+
+struct StepLimit {
+  float step = 0.0f;
+  StepBound bound = StepBound::Fixed;
+};
+
+struct StepInputs {
+  float supportRadius = 1.5f;  // h, m
+  float speedOfSound = 1.0f;   // m/s
+  float kinematicViscosity = 0.0f;
+  float maxSpeed = 0.0f;       // m/s
+  float maxAcceleration = 0.0f;  // m/s^2
+  float springStep = 0.0f;     // sqrt(m / k_eff) of the stiffest spring, s; 0 when no springs
+};
+
+// The adaptive step and the bound that set it (the smallest of the bounds above).
+StepLimit adaptiveStep(const TimeStepParams& params, const StepInputs& inputs);
+
+// The stability bound of a scene's own parameters at rest (|v| = 0, |a| = |g|), used to warn
+// about a fixed step that is too large.
+StepLimit stabilityBound(const TimeStepParams& params, const StepInputs& inputs);
+
+}  // namespace kurage::sim

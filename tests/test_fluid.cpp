@@ -1,0 +1,163 @@
+// The SPH fluid of SPEC §1 (sim/): mass calibration, symmetric pressure, walls, exact frame
+// times, determinism and independence of simulations.
+#include "sim/fluid.h"
+#include "sim/simulation.h"
+
+#include <gtest/gtest.h>
+#include <tbb/global_control.h>
+
+#include <cstring>
+
+using namespace kurage::sim;
+
+namespace {
+
+SimParams tank(float size = 8.0f) {
+  SimParams p;
+  p.container.min = Eigen::Vector3f(0, 0, 0);
+  p.container.max = Eigen::Vector3f(2 * size, size, 2 * size);
+  p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(size, size, size)});
+  return p;
+}
+
+size_t nearest(const ParticleSet& p, const Eigen::Vector3f& target) {
+  size_t best = 0;
+  float bestD = 1e30f;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const float d = (Eigen::Vector3f(p.x[i], p.y[i], p.z[i]) - target).squaredNorm();
+    if (d < bestD) { bestD = d; best = i; }
+  }
+  return best;
+}
+
+bool sameState(const ParticleSet& a, const ParticleSet& b) {
+  auto same = [](const std::vector<float>& u, const std::vector<float>& v) {
+    return u.size() == v.size() && std::memcmp(u.data(), v.data(), u.size() * sizeof(float)) == 0;
+  };
+  return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z) && same(a.vx, b.vx) && same(a.vy, b.vy) &&
+         same(a.vz, b.vz) && a.id == b.id;
+}
+
+}  // namespace
+
+TEST(FluidMass, InteriorParticleHasRestDensity) {
+  for (float h : {1.5f, 2.0f}) {
+    SimParams p = tank();
+    p.fluid.supportRadius = h;
+    p.fluid.restDensity = 1100.0f;
+    Simulation sim(p);
+    sim.step(0.0f);  // sorts and computes densities without moving anything
+    const size_t centre = nearest(sim.particles(), Eigen::Vector3f(4, 4, 4));
+    EXPECT_NEAR(sim.particles().density[centre], 1100.0f, 1100.0f * 1e-5f) << "h = " << h;
+    EXPECT_NEAR(sim.fluidParticleMass(), calibratedParticleMass(1.0f, h, 1100.0f), 1e-3f);
+  }
+}
+
+TEST(FluidPressure, PairForcesAreEqualAndOppositeAndViscosityDamps) {
+  SimParams p;
+  p.container.max = Eigen::Vector3f(10, 10, 10);
+  p.gravity.setZero();
+  Simulation sim(p);
+  ParticleSet& s = sim.particles();
+  const float m = sim.fluidParticleMass();
+  // A low rest density gives both particles a positive pressure: they must push apart.
+  s.add(5.0f, 5.0f, 5.0f, 0.1f, 0, 0, 10.0f, m, 0, 0);
+  s.add(5.6f, 5.3f, 5.1f, -0.2f, 0.05f, 0, 10.0f, m, 1, 0);
+  sim.step(0.0f);
+  const ParticleSet& r = sim.particles();
+  ASSERT_EQ(r.size(), 2u);
+  const size_t a = r.id[0] == 0 ? 0 : 1, b = 1 - a;
+  const Eigen::Vector3f accA(r.ax[a], r.ay[a], r.az[a]), accB(r.ax[b], r.ay[b], r.az[b]);
+  EXPECT_LT((accA + accB).norm(), 1e-5f * accA.norm());
+  const Eigen::Vector3f rAB(r.x[a] - r.x[b], r.y[a] - r.y[b], r.z[a] - r.z[b]);
+  EXPECT_GT(accA.dot(rAB), 0.0f) << "pressure pushes a away from b";
+  // With the rest density of water the pair is far below rest: the clamped pressure is zero and
+  // only viscosity acts, which shrinks the relative velocity.
+  Simulation sim2(p);
+  sim2.particles().add(5.0f, 5.0f, 5.0f, 0.1f, 0, 0, 1000.0f, m, 0, 0);
+  sim2.particles().add(5.6f, 5.3f, 5.1f, -0.2f, 0.05f, 0, 1000.0f, m, 1, 0);
+  sim2.step(0.0f);
+  const ParticleSet& q = sim2.particles();
+  const size_t c = q.id[0] == 0 ? 0 : 1, d = 1 - c;
+  const Eigen::Vector3f relVel(q.vx[c] - q.vx[d], q.vy[c] - q.vy[d], q.vz[c] - q.vz[d]);
+  const Eigen::Vector3f relAcc(q.ax[c] - q.ax[d], q.ay[c] - q.ay[d], q.az[c] - q.az[d]);
+  EXPECT_LT(relAcc.dot(relVel), 0.0f);
+  EXPECT_EQ(q.pressure[0], 0.0f);
+}
+
+TEST(FluidPressure, CoincidentParticlesSeparateSymmetrically) {
+  SimParams p;
+  p.container.max = Eigen::Vector3f(10, 10, 10);
+  p.gravity.setZero();
+  Simulation sim(p);
+  const float m = sim.fluidParticleMass();
+  sim.particles().add(5, 5, 5, 0, 0, 0, 10.0f, m, 0, 0);  // low rest density: positive pressure
+  sim.particles().add(5, 5, 5, 0, 0, 0, 10.0f, m, 1, 0);
+  sim.step(0.01f);
+  const ParticleSet& r = sim.particles();
+  EXPECT_TRUE(std::isfinite(r.x[0]) && std::isfinite(r.x[1]));
+  EXPECT_NE(r.x[0], r.x[1]);
+  EXPECT_NEAR(r.x[0] + r.x[1], 10.0f, 1e-5f);
+}
+
+TEST(Walls, NoSlipStopsAndFreeSlipKeepsTangentialVelocity) {
+  for (WallSlip mode : {WallSlip::NoSlip, WallSlip::FreeSlip}) {
+    SimParams p;
+    p.container.max = Eigen::Vector3f(10, 10, 10);
+    p.container.walls = mode;
+    p.gravity.setZero();
+    Simulation sim(p);
+    sim.particles().add(5, 5, 0.05f, 1.0f, 0, -10.0f, 1000.0f, sim.fluidParticleMass(), 0, 0);
+    sim.step(0.01f);
+    const ParticleSet& r = sim.particles();
+    EXPECT_EQ(r.z[0], 0.0f) << "put back onto the wall";
+    EXPECT_EQ(r.vz[0], 0.0f);
+    if (mode == WallSlip::NoSlip) EXPECT_EQ(r.vx[0], 0.0f);
+    else EXPECT_GT(r.vx[0], 0.9f);
+  }
+}
+
+TEST(TimeStepping, FramesLandExactlyOnOutputTimes) {
+  Simulation sim(tank(6.0f));
+  for (int f = 1; f <= 4; ++f) {
+    const double t = f / 24.0;
+    sim.advanceTo(t);
+    EXPECT_EQ(sim.time(), t);
+  }
+  EXPECT_GT(sim.stats().steps, 4u);
+  EXPECT_LE(sim.stats().minStep, sim.stats().maxStep);
+}
+
+TEST(TimeStepping, ContainerHoldsEveryParticleAndCountIsConserved) {
+  Simulation sim(tank(6.0f));
+  const size_t count = sim.particles().size();
+  sim.advanceTo(1.5);
+  const ParticleSet& p = sim.particles();
+  ASSERT_EQ(p.size(), count);
+  const auto& box = sim.params().container;
+  for (size_t i = 0; i < p.size(); ++i) {
+    ASSERT_TRUE(p.x[i] >= box.min.x() && p.x[i] <= box.max.x());
+    ASSERT_TRUE(p.y[i] >= box.min.y() && p.y[i] <= box.max.y());
+    ASSERT_TRUE(p.z[i] >= box.min.z() && p.z[i] <= box.max.z());
+  }
+}
+
+TEST(Determinism, IndependentSimulationsInOneProcessAgree) {
+  Simulation a(tank(5.0f)), b(tank(5.0f));
+  for (int f = 1; f <= 6; ++f) {
+    a.advanceTo(f * 0.05);
+    b.advanceTo(f * 0.05);
+  }
+  EXPECT_TRUE(sameState(a.particles(), b.particles()));
+}
+
+TEST(Determinism, BitIdenticalWithOneAndTwoThreads) {
+  auto runWith = [](size_t threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    Simulation sim(tank(10.0f));
+    sim.advanceTo(0.5);
+    return sim.particles();
+  };
+  const ParticleSet one = runWith(1), two = runWith(2);
+  EXPECT_TRUE(sameState(one, two));
+}

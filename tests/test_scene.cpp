@@ -1,0 +1,171 @@
+// Scene loading (pipeline/scene.h): strict validation with file + JSON path, the schema kept in
+// step with the parameter structs, and the CLI refusing bad scenes before writing anything.
+#include "pipeline/files.h"
+#include "pipeline/scene.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <functional>
+
+using namespace kurage;
+using namespace kurage::pipeline;
+using nlohmann::json;
+
+namespace {
+
+json baseScene() {
+  return json::parse(readText(test::sourceDir() / "tests/scenes/tiny_dam_break.json"));
+}
+
+struct BadScene {
+  const char* name;
+  std::function<void(json&)> mutate;  // applied to the valid base scene
+  const char* path;                   // the JSON path the message must name
+  const char* message;                // a fragment the message must contain
+};
+
+std::ostream& operator<<(std::ostream& os, const BadScene& s) { return os << s.name; }
+
+const BadScene kBadScenes[] = {
+    {"UnknownTopLevelKey", [](json& s) { s["fluids"] = json::object(); }, "fluids", "unknown key"},
+    {"MisspelledNestedKey", [](json& s) { s["fluid"]["spaceing"] = 1.0; }, "fluid.spaceing",
+     "unknown key (did you mean \"spacing\"?)"},
+    {"WrongType", [](json& s) { s["fluid"]["spacing"] = "1.0"; }, "fluid.spacing", "must be a number, got \"1.0\""},
+    {"NegativeSpacing", [](json& s) { s["fluid"]["spacing"] = -3; }, "fluid.spacing", "must be > 0, got -3"},
+    {"ZeroSupportRadius", [](json& s) { s["fluid"]["support_radius"] = 0; }, "fluid.support_radius",
+     "must be >= 1, got 0"},
+    {"MissingContainer", [](json& s) { s.erase("container"); }, "container", "is required but missing"},
+    {"MissingContainerMin", [](json& s) { s["container"].erase("min"); }, "container.min", "is required but missing"},
+    {"BadEnum", [](json& s) { s["container"]["walls"] = "sticky"; }, "container.walls",
+     "must be one of \"no_slip\", \"free_slip\", got \"sticky\""},
+    {"VectorTooShort", [](json& s) { s["gravity"] = {0, -6}; }, "gravity", "must be an array of 3 numbers"},
+    {"VectorElementType", [](json& s) { s["fluid_blocks"][0]["min"][1] = true; }, "fluid_blocks[0].min[1]",
+     "must be a number, got true"},
+    {"NonIntegerWidth", [](json& s) { s["render"]["width"] = 64.5; }, "render.width", "must be an integer"},
+    {"BlockOutsideContainer", [](json& s) { s["fluid_blocks"][0]["max"] = {5, 5, 30}; }, "fluid_blocks[0]",
+     "lies outside the container"},
+    {"OverlappingBlocks", [](json& s) { s["fluid_blocks"].push_back({{"min", {2, 0, 0}}, {"max", {6, 5, 4}}}); },
+     "fluid_blocks[1]", "overlaps fluid_blocks[0]"},
+    {"InvertedContainer", [](json& s) { s["container"]["max"] = {16, -5, 10}; }, "container.max",
+     "must exceed container.min"},
+    {"ContainerSmallerThanSupport", [](json& s) {
+       s["container"]["max"] = {16, 1, 10};
+       s["fluid_blocks"][0]["max"] = {5, 1, 8};
+     }, "container", "smaller than the support radius"},
+    {"CameraUpParallel", [](json& s) { s["render"]["camera"]["up"] = {0, 24.5, -10}; }, "render.camera.up",
+     "parallel"},
+    {"MissingDuration", [](json& s) { s["output"].erase("duration"); }, "output.duration", "is required but missing"},
+    {"NotAnObject", [](json& s) { s["time_step"] = 0.01; }, "time_step", "must be an object"},
+    {"ThresholdAboveStrength", [](json& s) { s["surface"]["fluid"]["threshold"] = 2.0; }, "surface.fluid.threshold",
+     "must be below the blob strength"},
+};
+
+class BadSceneTest : public ::testing::TestWithParam<BadScene> {};
+
+}  // namespace
+
+TEST_P(BadSceneTest, NamesFileAndJsonPath) {
+  json scene = baseScene();
+  GetParam().mutate(scene);
+  try {
+    parseScene(scene, "bad.json");
+    FAIL() << "the scene was accepted";
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file(), "bad.json");
+    EXPECT_EQ(e.jsonPath(), GetParam().path) << e.what();
+    EXPECT_NE(e.message().find(GetParam().message), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()), "bad.json: " + std::string(GetParam().path) + ": " + e.message());
+  }
+}
+
+TEST_P(BadSceneTest, CliExitsNonZeroAndWritesNothing) {
+  test::TempDir dir;
+  json scene = baseScene();
+  GetParam().mutate(scene);
+  const auto file = dir.path() / "bad.json";
+  writeTextAtomic(file, scene.dump(2));
+  const auto out = dir.path() / "out";
+  const int code = test::runKurage("run " + file.string() + " -o " + out.string(), dir.path() / "log.txt");
+  EXPECT_EQ(code, 2);
+  EXPECT_FALSE(std::filesystem::exists(out)) << "output folder created for a bad scene";
+  const std::string log = readText(dir.path() / "log.txt");
+  EXPECT_NE(log.find(file.string() + ": " + GetParam().path + ": "), std::string::npos) << log;
+  EXPECT_EQ(test::runKurage("check " + file.string(), dir.path() / "log2.txt"), 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, BadSceneTest, ::testing::ValuesIn(kBadScenes),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(SceneFile, InvalidJsonNamesFileAndLine) {
+  test::TempDir dir;
+  const auto file = dir.path() / "broken.json";
+  writeTextAtomic(file, "{\n  \"name\": \"x\",\n  \"fluid\": { \"spacing\": 1.0, }\n}\n");
+  try {
+    loadScene(file);
+    FAIL();
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.file(), file.string());
+    EXPECT_NE(e.message().find("invalid JSON at line 3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneFile, MissingFileIsAnError) {
+  EXPECT_THROW(loadScene("/nonexistent/kurage/scene.json"), SceneError);
+}
+
+TEST(SceneFile, NanIsRefused) {
+  // JSON has no NaN; a scene that spells one is refused as invalid JSON.
+  test::TempDir dir;
+  const auto file = dir.path() / "nan.json";
+  std::string text = baseScene().dump(2);
+  text.replace(text.find("\"spacing\": 1.0"), 14, "\"spacing\": NaN");
+  writeTextAtomic(file, text);
+  EXPECT_THROW(loadScene(file), SceneError);
+}
+
+TEST(SceneFile, DefaultsAreThePapersParameters) {
+  json scene = baseScene();
+  scene.erase("fluid");
+  scene.erase("gravity");
+  const Scene s = parseScene(scene, "x.json");
+  EXPECT_FLOAT_EQ(s.sim.fluid.spacing, 1.0f);
+  EXPECT_FLOAT_EQ(s.sim.fluid.supportRadius, 1.5f);
+  EXPECT_FLOAT_EQ(s.sim.fluid.restDensity, 1000.0f);
+  EXPECT_FLOAT_EQ(s.sim.fluid.pressureStiffness, 2.2f);
+  EXPECT_FLOAT_EQ(s.sim.fluid.kinematicViscosity, 0.3f);
+  EXPECT_FLOAT_EQ(s.sim.gravity.norm(), 6.0f);
+}
+
+TEST(SceneFile, EffectiveParametersRoundTrip) {
+  const Scene s = loadScene(test::sourceDir() / "scenes/dam_break.json");
+  const json effective = sceneToJson(s);
+  const Scene again = parseScene(effective, "effective.json");
+  EXPECT_EQ(sceneToJson(again), effective);
+  EXPECT_EQ(effective["fluid"]["viscosity"], 0.3);  // written as the user wrote it, not 0.30000001
+}
+
+TEST(SceneFile, CommittedScenesAreValid) {
+  for (const char* file : {"scenes/dam_break.json", "tests/scenes/tiny_dam_break.json"})
+    EXPECT_NO_THROW(loadScene(test::sourceDir() / file)) << file;
+}
+
+TEST(Schema, CommittedSchemaMatchesTheParameterStructs) {
+  const std::string committed = readText(test::sourceDir() / "scenes/schema.json");
+  EXPECT_EQ(committed, sceneSchema().dump(2) + "\n")
+      << "scenes/schema.json is stale: regenerate it with `build/kurage schema > scenes/schema.json`";
+}
+
+TEST(Schema, DescribesEveryKeyWithDefaultsAndRanges) {
+  const json schema = sceneSchema();
+  EXPECT_EQ(schema["additionalProperties"], false);
+  const json& spacing = schema["properties"]["fluid"]["properties"]["spacing"];
+  EXPECT_EQ(spacing["type"], "number");
+  EXPECT_EQ(spacing["default"], 1.0);
+  EXPECT_EQ(spacing["exclusiveMinimum"], 0.0);
+  EXPECT_NE(spacing["description"].get<std::string>().find("[m]"), std::string::npos);
+  EXPECT_EQ(schema["properties"]["container"]["properties"]["walls"]["enum"], json({"no_slip", "free_slip"}));
+  EXPECT_NE(std::find(schema["required"].begin(), schema["required"].end(), "container"), schema["required"].end());
+}
