@@ -8,19 +8,9 @@
 
 namespace kurage::sim {
 
-namespace {
-constexpr size_t kGrain = 512;
-
-template <class Body>
-void forEachParticle(size_t count, Body&& body) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain), [&](const tbb::blocked_range<size_t>& r) {
-    std::array<std::array<uint32_t, 2>, 9> ranges;
-    for (size_t i = r.begin(); i != r.end(); ++i) body(i, ranges);
-  });
-}
-}  // namespace
-
-void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6) {
+void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
+                    NeighborLists& neighbors) {
+  const size_t count = particles.size();
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -28,18 +18,36 @@ void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly
   float* rho = particles.density.data();
   const float h2 = poly6.h2;
   const std::vector<uint32_t>& cells = grid.cellOfSorted();
-  forEachParticle(particles.size(), [&](size_t i, auto& ranges) {
-    const float xi = x[i], yi = y[i], zi = z[i];
-    float sum = 0.0f;
-    const int n = grid.candidateRanges(cells[i], ranges);
-    for (int r = 0; r < n; ++r)
-      for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
-        const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
-        const float r2 = dx * dx + dy * dy + dz * dz;
-        const float t = std::max(h2 - r2, 0.0f);  // branch-free: zero outside the support
-        sum += m[j] * t * t * t;
-      }
-    rho[i] = poly6.coefficient * sum;  // (3)
+  neighbors.resize(count);
+  // One task per chunk of particles: the chunk's neighbour buffer is filled in particle order.
+  tbb::parallel_for(size_t(0), neighbors.chunkCount(), [&](size_t c) {
+    std::vector<uint32_t>& buffer = neighbors.chunk(c);
+    buffer.clear();
+    std::array<std::array<uint32_t, 2>, 9> ranges;
+    const size_t last = std::min(count, (c + 1) * NeighborLists::kChunk);
+    for (size_t i = c * NeighborLists::kChunk; i < last; ++i) {
+      const float xi = x[i], yi = y[i], zi = z[i];
+      const int n = grid.candidateRanges(cells[i], ranges);
+      size_t candidates = 0;
+      for (int r = 0; r < n; ++r) candidates += ranges[r][1] - ranges[r][0];
+      const size_t begin = buffer.size();
+      buffer.resize(begin + candidates);  // capacity is kept between steps
+      uint32_t* out = buffer.data() + begin;
+      size_t found = 0;
+      float sum = m[i] * h2 * h2 * h2;  // the particle itself, r = 0
+      for (int r = 0; r < n; ++r)
+        for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
+          const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
+          const float r2 = dx * dx + dy * dy + dz * dz;
+          if (r2 >= h2 || j == i) continue;
+          const float t = h2 - r2;
+          sum += m[j] * t * t * t;
+          out[found++] = j;
+        }
+      buffer.resize(begin + found);
+      neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));
+      rho[i] = poly6.coefficient * sum;  // (3)
+    }
   });
 }
 
@@ -55,7 +63,7 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
   }
 }
 
-void computeFluidAcceleration(const NeighborGrid& grid, ParticleSet& particles, const SpikyKernel& spiky,
+void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity) {
   const float* x = particles.x.data();
@@ -72,25 +80,22 @@ void computeFluidAcceleration(const NeighborGrid& grid, ParticleSet& particles, 
   float* ay = particles.ay.data();
   float* az = particles.az.data();
   const float h = spiky.h;
-  const float h2 = h * h;
   // Both kernels share the factor 45 / (pi h^6).
   const float gradC = spiky.gradientCoefficient;
   const float lapC = viscosity.laplacianCoefficient * dynamicViscosity;
-  const float tiny2 = 1e-12f * h2;
-  const std::vector<uint32_t>& cells = grid.cellOfSorted();
-  forEachParticle(particles.size(), [&](size_t i, auto& ranges) {
-    const float xi = x[i], yi = y[i], zi = z[i];
-    const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
-    const float pi = p[i];
-    float fpx = 0, fpy = 0, fpz = 0;  // pressure force density / (45 / (pi h^6))
-    float fvx = 0, fvy = 0, fvz = 0;  // viscosity force density / (mu 45 / (pi h^6))
-    const int n = grid.candidateRanges(cells[i], ranges);
-    for (int r = 0; r < n; ++r)
-      for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
+  const float tiny2 = 1e-12f * h * h;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, particles.size(), 512), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      const float xi = x[i], yi = y[i], zi = z[i];
+      const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
+      const float pi = p[i];
+      float fpx = 0, fpy = 0, fpz = 0;  // pressure force density / (45 / (pi h^6))
+      float fvx = 0, fvy = 0, fvz = 0;  // viscosity force density / (mu 45 / (pi h^6))
+      for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it) {
+        const uint32_t j = *it;
         // r_vec = r_i - r_j
         const float dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
         const float r2 = dx * dx + dy * dy + dz * dz;
-        if (r2 >= h2 || j == i) continue;
         const float mOverRho = m[j] / rho[j];
         float ux, uy, uz, dist;
         if (r2 > tiny2) {
@@ -109,10 +114,11 @@ void computeFluidAcceleration(const NeighborGrid& grid, ParticleSet& particles, 
         const float visc = mOverRho * t;
         fvx += visc * (vx[j] - vxi); fvy += visc * (vy[j] - vyi); fvz += visc * (vz[j] - vzi);
       }
-    const float invRho = 1.0f / rho[i];
-    ax[i] = (gradC * fpx + lapC * fvx) * invRho + gravity.x();
-    ay[i] = (gradC * fpy + lapC * fvy) * invRho + gravity.y();
-    az[i] = (gradC * fpz + lapC * fvz) * invRho + gravity.z();
+      const float invRho = 1.0f / rho[i];
+      ax[i] = (gradC * fpx + lapC * fvx) * invRho + gravity.x();
+      ay[i] = (gradC * fpy + lapC * fvy) * invRho + gravity.y();
+      az[i] = (gradC * fpz + lapC * fvz) * invRho + gravity.z();
+    }
   });
 }
 

@@ -11,8 +11,9 @@
 
 namespace kurage::sim {
 
-// (3) rho_i = sum_j m_j W_poly6(r_ij)
-void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6);
+// (3) rho_i = sum_j m_j W_poly6(r_ij); also finds every particle's neighbours (|r_ij| < h).
+void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
+                    NeighborLists& neighbors);
 
 // (4) p_i = k_press (rho_i - rho0_i), clamped at zero when the scene asks for it (SPEC §8).
 void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure);
@@ -22,7 +23,7 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
 // writes a_i = (f_i^press + f_i^vis) / rho_i + gravity  (force densities divided by density).
 // Two particles at the same position push each other apart along +-x, ordered by id, so the
 // result stays finite and symmetric.
-void computeFluidAcceleration(const NeighborGrid& grid, ParticleSet& particles, const SpikyKernel& spiky,
+void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity);
 

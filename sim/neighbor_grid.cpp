@@ -66,4 +66,22 @@ int NeighborGrid::candidateRanges(uint32_t cell, std::array<std::array<uint32_t,
   return n;
 }
 
+void NeighborLists::resize(size_t particles) {
+  chunks_.resize((particles + kChunk - 1) / kChunk);
+  begin_.resize(particles);
+  end_.resize(particles);
+}
+
+size_t NeighborLists::totalCount() const {
+  size_t total = 0;
+  for (size_t i = 0; i < begin_.size(); ++i) total += end_[i] - begin_[i];
+  return total;
+}
+
+size_t NeighborLists::memoryBytes() const {
+  size_t bytes = (begin_.capacity() + end_.capacity()) * sizeof(uint32_t);
+  for (const auto& c : chunks_) bytes += c.capacity() * sizeof(uint32_t);
+  return bytes;
+}
+
 }  // namespace kurage::sim

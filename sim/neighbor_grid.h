@@ -45,4 +45,31 @@ private:
   std::vector<uint32_t> sortedCell_; // by sorted index
 };
 
+// Per-particle neighbour lists (indices into the sorted particle arrays, the particle itself
+// excluded), found once per step by the density pass and reused by the force passes, so that
+// those loop over true neighbours only. Particles are split into fixed chunks, each with its own
+// buffer: the lists are a deterministic function of the particle order whatever the threads,
+// and the buffers are kept between steps (no allocation once sizes are stable).
+class NeighborLists {
+public:
+  static constexpr size_t kChunk = 1024;
+
+  void resize(size_t particles);
+  size_t chunkCount() const { return chunks_.size(); }
+  std::vector<uint32_t>& chunk(size_t c) { return chunks_[c]; }
+
+  // Called by the builder of chunk i / kChunk, in particle order within the chunk.
+  void setRange(size_t i, uint32_t begin, uint32_t end) { begin_[i] = begin; end_[i] = end; }
+
+  const uint32_t* begin(size_t i) const { return chunks_[i / kChunk].data() + begin_[i]; }
+  const uint32_t* end(size_t i) const { return chunks_[i / kChunk].data() + end_[i]; }
+  size_t count(size_t i) const { return end_[i] - begin_[i]; }
+  size_t totalCount() const;
+  size_t memoryBytes() const;
+
+private:
+  std::vector<std::vector<uint32_t>> chunks_;
+  std::vector<uint32_t> begin_, end_;
+};
+
 }  // namespace kurage::sim

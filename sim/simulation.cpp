@@ -82,7 +82,7 @@ void Simulation::computeAccelerations() {
   sortParticles();
   {
     StageTimer timer(stats_, Stage::Density);
-    computeDensity(grid_, particles_, poly6_);
+    computeDensity(grid_, particles_, poly6_, neighbors_);
   }
   {
     StageTimer timer(stats_, Stage::Pressure);
@@ -91,7 +91,7 @@ void Simulation::computeAccelerations() {
   {
     StageTimer timer(stats_, Stage::Forces);
     const float mu = params_.fluid.restDensity * params_.fluid.kinematicViscosity;  // mu = rho0 nu
-    computeFluidAcceleration(grid_, particles_, spiky_, viscosity_, mu, params_.gravity);
+    computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity);
   }
   accelerationsValid_ = true;
 }

@@ -49,6 +49,8 @@ public:
   double time() const { return time_; }
   const SimStats& stats() const { return stats_; }
   float fluidParticleMass() const { return fluidMass_; }
+  // Neighbours found by the last density pass (mean count = totalCount / particles).
+  const NeighborLists& neighbors() const { return neighbors_; }
 
   // Advances until time() == t exactly (the last step is shortened, and a step that would leave
   // a sliver is split in two halves). Throws SimulationError on a non-finite state.
@@ -72,6 +74,7 @@ private:
   ParticleSet particles_;
   ParticleSet scratch_;
   NeighborGrid grid_;
+  NeighborLists neighbors_;
   std::vector<uint32_t> order_;
   Poly6Kernel poly6_;
   SpikyKernel spiky_;
