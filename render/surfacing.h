@@ -40,9 +40,12 @@ public:
   LevelSet(LevelSet&&) noexcept;
   LevelSet& operator=(LevelSet&&) noexcept;
 
+  // True when there is no active voxel (also for a default-constructed level set).
   bool empty() const;
+  // Metres; 0 for a default-constructed level set.
   float voxelSize() const;
-  // Signed distance at a world position (trilinear); background outside the narrow band.
+  // Signed distance at a world position (trilinear); background outside the narrow band;
+  // +infinity for a default-constructed level set.
   float sample(const Eigen::Vector3f& worldPosition) const;
   size_t activeVoxelCount() const;
   size_t memoryBytes() const;
@@ -67,6 +70,15 @@ void writeLevelSets(const std::filesystem::path& path, const std::map<std::strin
 // Reads every float grid of a .vdb file written by writeLevelSets, keyed by grid name.
 // Throws std::runtime_error naming the path if the file is missing, truncated or not a VDB.
 std::map<std::string, LevelSet> readLevelSets(const std::filesystem::path& path);
+
+// The file metadata written by writeLevelSets ("kurage:time" seconds, "kurage:frame").
+struct LevelSetFileInfo {
+  double time = 0.0;
+  int frame = 0;
+};
+// As above, and also returns the file metadata in *info (when not null; fields the file lacks
+// keep their defaults).
+std::map<std::string, LevelSet> readLevelSets(const std::filesystem::path& path, LevelSetFileInfo* info);
 
 // Version string of the OpenVDB library in use (for run.json).
 std::string openvdbVersion();
