@@ -1,2 +1,234 @@
+// Particle caches: bit-exact round trips (positions far from the origin and negative included),
+// metadata, empty frames, and refusal of missing, truncated and foreign files.
+#include "pipeline/particle_cache.h"
+#include "render/surfacing.h"
+
 #include <gtest/gtest.h>
-TEST(Placeholdercache, Nothing) { EXPECT_TRUE(true); }
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <numeric>
+#include <random>
+#include <string>
+#include <unistd.h>
+
+namespace kurage::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A fresh, unique temporary directory, removed with everything in it at the end of the test.
+class TempDir {
+public:
+  TempDir() {
+    std::random_device rd;
+    path_ = fs::temp_directory_path() / ("kurage_test_cache_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
+    fs::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    fs::remove_all(path_, ignored);
+  }
+  const fs::path& path() const { return path_; }
+
+private:
+  fs::path path_;
+};
+
+// n particles: a dense block plus outliers up to +-1000 m and tiny magnitudes, shuffled ids.
+ParticleFrame randomFrame(size_t n, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> block(-1.3f, 2.7f), far(-1000.0f, 1000.0f), tiny(-1e-6f, 1e-6f),
+      speed(-5.0f, 5.0f);
+  ParticleFrame f;
+  f.time = 1.0 / 3.0;
+  f.frame = 42;
+  f.kindNames = {"fluid", "bell", "tentacle"};
+  std::vector<int64_t> ids(n);
+  std::iota(ids.begin(), ids.end(), int64_t(1) << 40);
+  std::shuffle(ids.begin(), ids.end(), rng);
+  for (size_t i = 0; i < n; ++i) {
+    auto& dist = (i % 10 == 0) ? far : (i % 97 == 0) ? tiny : block;
+    f.px.push_back(dist(rng));
+    f.py.push_back(dist(rng));
+    f.pz.push_back(dist(rng));
+    f.vx.push_back(speed(rng));
+    f.vy.push_back(speed(rng));
+    f.vz.push_back(speed(rng));
+    f.id.push_back(ids[i]);
+    f.kind.push_back(int32_t(i % 3));
+  }
+  // Exact edge values: zero, negative zero, large, a half-way point of the power-of-two grid.
+  f.px[1] = 0.0f;
+  f.py[1] = -0.0f;
+  f.pz[1] = 1000.0f;
+  f.px[2] = -1000.0f;
+  f.py[2] = 0.5f;
+  f.pz[2] = -0.5f;
+  return f;
+}
+
+// The frame with its particles sorted by id.
+ParticleFrame sortedById(const ParticleFrame& f) {
+  std::vector<size_t> order(f.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return f.id[a] < f.id[b]; });
+  ParticleFrame s = f;
+  for (size_t i = 0; i < order.size(); ++i) {
+    s.px[i] = f.px[order[i]];
+    s.py[i] = f.py[order[i]];
+    s.pz[i] = f.pz[order[i]];
+    s.vx[i] = f.vx[order[i]];
+    s.vy[i] = f.vy[order[i]];
+    s.vz[i] = f.vz[order[i]];
+    s.id[i] = f.id[order[i]];
+    s.kind[i] = f.kind[order[i]];
+  }
+  return s;
+}
+
+template <typename T>
+bool sameBits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+
+void expectSameFrame(const ParticleFrame& expected, const ParticleFrame& actual) {
+  EXPECT_EQ(actual.time, expected.time);
+  EXPECT_EQ(actual.frame, expected.frame);
+  EXPECT_EQ(actual.kindNames, expected.kindNames);
+  ASSERT_EQ(actual.size(), expected.size());
+  EXPECT_TRUE(sameBits(actual.px, expected.px));
+  EXPECT_TRUE(sameBits(actual.py, expected.py));
+  EXPECT_TRUE(sameBits(actual.pz, expected.pz));
+  EXPECT_TRUE(sameBits(actual.vx, expected.vx));
+  EXPECT_TRUE(sameBits(actual.vy, expected.vy));
+  EXPECT_TRUE(sameBits(actual.vz, expected.vz));
+  EXPECT_EQ(actual.id, expected.id);
+  EXPECT_EQ(actual.kind, expected.kind);
+}
+
+TEST(ParticleCache, RoundTripIsBitExact) {
+  TempDir dir;
+  const fs::path path = dir.path() / "particles_0042.vdb";
+  const ParticleFrame frame = randomFrame(5000, 1);
+  writeParticleFrame(path, frame);
+  EXPECT_TRUE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path.string() + ".tmp"));
+  const ParticleFrame read = readParticleFrame(path);
+  expectSameFrame(sortedById(frame), read);
+  // The reader's output is sorted by id.
+  EXPECT_TRUE(std::is_sorted(read.id.begin(), read.id.end()));
+  // Negative zero keeps its sign bit.
+  const auto it = std::find(read.id.begin(), read.id.end(), frame.id[1]);
+  ASSERT_NE(it, read.id.end());
+  EXPECT_TRUE(std::signbit(read.py[size_t(it - read.id.begin())]));
+}
+
+TEST(ParticleCache, RoundTripOfSmallAndSpreadFrames) {
+  TempDir dir;
+  // A single particle, a tight cluster (small voxels) and a flat sheet.
+  ParticleFrame one = randomFrame(1, 2);
+  ParticleFrame tight = randomFrame(2000, 3);
+  for (auto* a : {&tight.px, &tight.py, &tight.pz})
+    for (float& x : *a) x = 123.456f + x * 1e-4f;
+  ParticleFrame sheet = randomFrame(500, 4);
+  std::fill(sheet.pz.begin(), sheet.pz.end(), -7.25f);
+  int n = 0;
+  for (const ParticleFrame* f : {&one, &tight, &sheet}) {
+    const fs::path path = dir.path() / ("frame_" + std::to_string(n++) + ".vdb");
+    writeParticleFrame(path, *f);
+    expectSameFrame(sortedById(*f), readParticleFrame(path));
+  }
+}
+
+TEST(ParticleCache, EmptyFrameRoundTrips) {
+  TempDir dir;
+  const fs::path path = dir.path() / "empty.vdb";
+  ParticleFrame frame;
+  frame.time = 2.5;
+  frame.frame = 3;
+  frame.kindNames = {"fluid", "bell"};
+  writeParticleFrame(path, frame);
+  const ParticleFrame read = readParticleFrame(path);
+  EXPECT_EQ(read.size(), 0u);
+  expectSameFrame(frame, read);
+}
+
+// Expects `call` to throw std::runtime_error whose message names `path` (and `detail`).
+template <typename Call>
+void expectErrorNamingPath(Call call, const fs::path& path, const std::string& detail = "") {
+  try {
+    call();
+    ADD_FAILURE() << "no exception for " << path;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(detail), std::string::npos) << e.what();
+  }
+}
+
+TEST(ParticleCache, MissingTruncatedAndForeignFilesThrowNamingThePath) {
+  TempDir dir;
+  const fs::path missing = dir.path() / "missing.vdb";
+  expectErrorNamingPath([&] { readParticleFrame(missing); }, missing);
+
+  const fs::path text = dir.path() / "text.vdb";
+  std::ofstream(text) << "not a vdb\n";
+  expectErrorNamingPath([&] { readParticleFrame(text); }, text);
+
+  const fs::path good = dir.path() / "good.vdb";
+  writeParticleFrame(good, randomFrame(3000, 5));
+  const auto size = fs::file_size(good);
+  for (const double fraction : {0.5, 0.05, 0.25, 0.75, 0.95, 0.999}) {
+    const fs::path cut = dir.path() / ("cut_" + std::to_string(int(fraction * 1000)) + ".vdb");
+    fs::copy_file(good, cut);
+    fs::resize_file(cut, static_cast<uintmax_t>(double(size) * fraction));
+    expectErrorNamingPath([&] { readParticleFrame(cut); }, cut);
+  }
+
+  // A valid .vdb without a "particles" grid (a level set file).
+  const fs::path levelSets = dir.path() / "levelsets.vdb";
+  const render::LevelSet blob = render::buildMetaballLevelSet({Eigen::Vector3f::Zero()}, render::MetaballParams{});
+  render::writeLevelSets(levelSets, {{"fluid", &blob}}, 0.0, 0);
+  expectErrorNamingPath([&] { readParticleFrame(levelSets); }, levelSets, "particles");
+}
+
+TEST(ParticleCache, MissingAttributeThrowsNamingIt) {
+  TempDir dir;
+  const fs::path path = dir.path() / "renamed.vdb";
+  writeParticleFrame(path, randomFrame(100, 6));
+  // Rename the attribute "kind" to "kinx" in the attribute descriptor (stored uncompressed as a
+  // length-prefixed string); the metadata key "kurage:kinds" is left alone.
+  std::string bytes;
+  {
+    std::ifstream in(path, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string needle = std::string("\x04\0\0\0", 4) + "kind";
+  size_t patched = 0;
+  for (size_t at = bytes.find(needle); at != std::string::npos; at = bytes.find(needle, at + 1)) {
+    bytes[at + needle.size() - 1] = 'x';
+    ++patched;
+  }
+  ASSERT_GT(patched, 0u) << "attribute name not found in the file";
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
+  expectErrorNamingPath([&] { readParticleFrame(path); }, path, "kind");
+}
+
+TEST(ParticleCache, WriterRefusesInconsistentFrames) {
+  TempDir dir;
+  const fs::path path = dir.path() / "bad.vdb";
+  ParticleFrame frame = randomFrame(10, 7);
+  frame.kind.pop_back();
+  expectErrorNamingPath([&] { writeParticleFrame(path, frame); }, path);
+  frame = randomFrame(10, 7);
+  frame.px[3] = std::numeric_limits<float>::quiet_NaN();
+  expectErrorNamingPath([&] { writeParticleFrame(path, frame); }, path);
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path.string() + ".tmp"));
+}
+
+}  // namespace
+}  // namespace kurage::pipeline
