@@ -2,6 +2,8 @@
 
 #include "pipeline/scene_params.h"
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <fstream>
 #include <sstream>

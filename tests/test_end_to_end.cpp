@@ -66,7 +66,8 @@ TEST(EndToEnd, TinyDamBreakThroughAllStages) {
 
   const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   for (const char* stage : {"sim", "surface", "render"}) EXPECT_GT(run["stages"][stage]["seconds"], 0.0) << stage;
-  EXPECT_EQ(run["parameters"]["fluid"]["pressure_stiffness"], 2.2);
+  EXPECT_EQ(run["parameters"]["fluid"]["pressure_stiffness"], 1000.0);
+  EXPECT_EQ(run["parameters"]["fluid"]["viscosity"], 0.3) << "defaults filled in";
   EXPECT_FALSE(run["versions"]["openvdb"].get<std::string>().empty());
   EXPECT_FALSE(run["versions"]["embree"].get<std::string>().empty());
   EXPECT_GT(run["derived"]["fluid_particle_mass_kg"], 0.0);
