@@ -32,6 +32,9 @@ public:
   int candidateRanges(uint32_t cell, std::array<std::array<uint32_t, 2>, 9>& ranges) const;
 
   Eigen::Vector3i dims() const { return dims_; }
+  size_t memoryBytes() const {
+    return (cellStart_.capacity() + cellOf_.capacity() + sortedCell_.capacity()) * sizeof(uint32_t);
+  }
   float cellSize() const { return cellSize_; }
   uint32_t cellIndex(float x, float y, float z) const;
 

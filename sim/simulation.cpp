@@ -150,6 +150,18 @@ StepLimit Simulation::stabilityLimit() const {
   return stabilityBound(params_.timeStep, in);
 }
 
+size_t Simulation::memoryBytes() const {
+  auto setBytes = [](const ParticleSet& p) {
+    size_t b = 0;
+    for (const auto* a : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.ax, &p.ay, &p.az, &p.density, &p.pressure,
+                          &p.restDensity, &p.mass})
+      b += a->capacity() * sizeof(float);
+    return b + p.id.capacity() * sizeof(int64_t) + p.kind.capacity() * sizeof(int32_t);
+  };
+  return setBytes(particles_) + setBytes(scratch_) + grid_.memoryBytes() + neighbors_.memoryBytes() +
+         order_.capacity() * sizeof(uint32_t);
+}
+
 void Simulation::advanceTo(double t) {
   while (time_ < t) {
     computeAccelerations();

@@ -62,6 +62,9 @@ public:
   // The step the adaptive controller (or the fixed step) would take now.
   StepLimit nextStepLimit() const;
 
+  // Bytes held by the simulation's per-particle arrays (particles, scratch, grid, neighbour lists).
+  size_t memoryBytes() const;
+
   // The stability bound of the scene's parameters at rest.
   StepLimit stabilityLimit() const;
 

@@ -1,0 +1,68 @@
+// The kurage command line: a small argument parser shared by the commands, and one function per
+// command (each in its own pipeline/cmd_*.cpp). Commands report errors by throwing; only main()
+// turns them into exit codes (2 for UsageError and SceneError, 1 for anything else).
+#pragma once
+
+#include "pipeline/stages.h"
+
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace kurage::pipeline {
+
+class UsageError : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+// Consumes options from a command's arguments; whatever is left must be positional.
+class ArgParser {
+public:
+  ArgParser(std::string command, std::vector<std::string> args) : command_(std::move(command)), args_(std::move(args)) {}
+
+  bool flag(std::initializer_list<const char*> names);
+  std::optional<std::string> option(std::initializer_list<const char*> names);
+  std::optional<int> intOption(std::initializer_list<const char*> names, int min, int max);
+  std::optional<double> doubleOption(std::initializer_list<const char*> names);
+  // The remaining arguments; throws UsageError for any leftover "-..." option.
+  std::vector<std::string> positionals();
+  [[noreturn]] void fail(const std::string& message) const;
+
+private:
+  std::string command_;
+  std::vector<std::string> args_;
+};
+
+// Options every stage command shares: -o OUT, --frames A-B, --threads N, --progress.
+struct StageCommandOptions {
+  StageOptions stage;
+  int threads = 0;  // 0: all cores
+};
+StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput);
+extern const char* const kStageOptionsHelp;
+
+// RAII limit on TBB's worker threads (no limit for 0).
+class ThreadLimit {
+public:
+  explicit ThreadLimit(int threads);
+  ~ThreadLimit();
+  ThreadLimit(const ThreadLimit&) = delete;
+  ThreadLimit& operator=(const ThreadLimit&) = delete;
+  static int current();
+
+private:
+  void* control_ = nullptr;
+};
+
+// Commands. `args` excludes the program and command names.
+int commandStage(const std::string& name, std::vector<std::string> args);  // run, sim, surface, render
+int commandCheck(std::vector<std::string> args);
+int commandSchema(std::vector<std::string> args);
+int commandBench(std::vector<std::string> args);  // dispatches to the bench* functions below
+int benchSim(ArgParser& args);      // pipeline/cmd_bench_sim.cpp
+int benchRender(ArgParser& args);   // pipeline/cmd_bench_render.cpp
+int benchSurface(ArgParser& args);  // pipeline/cmd_bench_surface.cpp
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,119 @@
+// kurage bench sim: simulation throughput on a running 3-D dam break.
+//
+// For each particle count (about 100,000 and 250,000 by default), support radius (the paper's
+// h = 1.5 l_avr and h = 2 l_avr) and thread count (1 and 2): builds a column of fluid at one
+// side of a tank three times its length, lets it collapse for `--warmup` steps (start-up
+// excluded), then times `--steps` adaptive steps and reports the mean neighbour count, ms per
+// step by stage and particle-steps per second.
+#include "pipeline/cli.h"
+#include "sim/simulation.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace kurage::pipeline {
+
+namespace {
+
+sim::SimParams damBreak(int particles, float supportRadius) {
+  // Column nx x ny x nz with nz = 1.6 nx, ny = nx.
+  const int nx = std::max(2, int(std::round(std::cbrt(particles / 1.6))));
+  const int nz = std::max(2, int(std::round(particles / double(nx * nx))));
+  sim::SimParams p;
+  p.fluid.supportRadius = supportRadius;
+  // A liquid, not the paper's gas-like fluid: c = 10 sqrt(2 g H) (docs/PHYSICS.md).
+  const float c = 10.0f * std::sqrt(2.0f * 6.0f * nz);
+  p.fluid.pressureStiffness = c * c;
+  p.container.min = Eigen::Vector3f(0, 0, 0);
+  p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
+  p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
+  return p;
+}
+
+struct BenchRun {
+  size_t particles = 0;
+  float hOverSpacing = 0;
+  int threads = 0;
+  double meanNeighbours = 0;
+  double msPerStep = 0;
+  double particleStepsPerSecond = 0;
+  double bytesPerParticle = 0;
+  std::array<double, size_t(sim::Stage::Count)> stageMs{};
+};
+
+BenchRun measure(int particles, float h, int threads, int warmup, int steps) {
+  ThreadLimit limit(threads);
+  sim::Simulation simulation(damBreak(particles, h));
+  for (int i = 0; i < warmup; ++i) simulation.step(simulation.nextStepLimit().step);
+  const sim::SimStats before = simulation.stats();
+  const auto start = std::chrono::steady_clock::now();
+  double neighbours = 0;
+  for (int i = 0; i < steps; ++i) {
+    // nextStepLimit uses the accelerations of the previous step: as in advanceTo, minus frames.
+    simulation.step(simulation.nextStepLimit().step);
+    neighbours += double(simulation.neighbors().totalCount()) / simulation.particles().size();
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  BenchRun r;
+  r.particles = simulation.particles().size();
+  r.hOverSpacing = h;
+  r.threads = threads;
+  r.meanNeighbours = neighbours / steps;
+  r.msPerStep = 1000.0 * seconds / steps;
+  r.particleStepsPerSecond = r.particles * double(steps) / seconds;
+  r.bytesPerParticle = double(simulation.memoryBytes()) / r.particles;
+  for (size_t s = 0; s < r.stageMs.size(); ++s)
+    r.stageMs[s] = 1000.0 * (simulation.stats().stageSeconds[s] - before.stageSeconds[s]) / steps;
+  return r;
+}
+
+}  // namespace
+
+int benchSim(ArgParser& args) {
+  if (args.flag({"-h", "--help"})) {
+    std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N] [--json]\n\n"
+                "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
+                "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n");
+    return 0;
+  }
+  const bool json = args.flag({"--json"});
+  const int steps = args.intOption({"--steps"}, 1, 100000).value_or(30);
+  const int warmup = args.intOption({"--warmup"}, 0, 100000).value_or(30);
+  std::vector<int> counts{100000, 250000};
+  if (auto n = args.intOption({"--particles"}, 8, 100000000)) counts = {*n};
+  std::vector<int> threadCounts{1, 2};
+  if (auto t = args.intOption({"--threads"}, 1, 1024)) threadCounts = {*t};
+  if (!args.positionals().empty()) args.fail("unexpected argument");
+
+  nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
+                        {"warmup_steps", warmup}, {"timed_steps", steps}, {"runs", nlohmann::json::array()}};
+  if (!json)
+    std::printf("%10s %6s %7s %9s %9s %8s %8s %8s %10s %9s\n", "particles", "h/l", "threads", "neighbours", "ms/step",
+                "sort", "density", "forces", "Mpsteps/s", "B/particle");
+  for (int count : counts)
+    for (float h : {1.5f, 2.0f})
+      for (int threads : threadCounts) {
+        const BenchRun r = measure(count, h, threads, warmup, steps);
+        nlohmann::json stages = nlohmann::json::object();
+        for (size_t s = 0; s < r.stageMs.size(); ++s) stages[std::string(sim::stageName(sim::Stage(s)))] = r.stageMs[s];
+        out["runs"].push_back({{"particles", r.particles}, {"h_over_spacing", r.hOverSpacing}, {"threads", r.threads},
+                               {"mean_neighbours", r.meanNeighbours}, {"ms_per_step", r.msPerStep},
+                               {"ms_per_step_by_stage", stages},
+                               {"particle_steps_per_s", r.particleStepsPerSecond},
+                               {"bytes_per_particle", r.bytesPerParticle}});
+        if (!json) {
+          std::printf("%10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f\n", r.particles, r.hOverSpacing,
+                      r.threads, r.meanNeighbours, r.msPerStep, r.stageMs[size_t(sim::Stage::Sort)],
+                      r.stageMs[size_t(sim::Stage::Density)], r.stageMs[size_t(sim::Stage::Forces)],
+                      r.particleStepsPerSecond / 1e6, r.bytesPerParticle);
+          std::fflush(stdout);
+        }
+      }
+  if (json) std::printf("%s\n", out.dump(2).c_str());
+  return 0;
+}
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,37 @@
+// kurage check SCENE, kurage schema
+#include "pipeline/cli.h"
+#include "pipeline/scene.h"
+#include "sim/simulation.h"
+
+#include <cstdio>
+
+namespace kurage::pipeline {
+
+int commandCheck(std::vector<std::string> rawArgs) {
+  ArgParser args("check", std::move(rawArgs));
+  if (args.flag({"-h", "--help"})) {
+    std::printf("usage: kurage check SCENE\n\nValidates SCENE (keys, types, ranges, consistency) and exits 0 if it is "
+                "valid, 2 with a message naming the file and the JSON path if not.\n");
+    return 0;
+  }
+  const std::vector<std::string> positional = args.positionals();
+  if (positional.size() != 1) args.fail("expected one SCENE");
+  const Scene scene = loadScene(positional[0]);
+  const sim::Simulation probe(scene.sim);
+  std::printf("%s: valid (%zu particles, %d frames)\n", positional[0].c_str(), probe.particles().size(),
+              scene.output.frameCount());
+  return 0;
+}
+
+int commandSchema(std::vector<std::string> rawArgs) {
+  ArgParser args("schema", std::move(rawArgs));
+  if (args.flag({"-h", "--help"})) {
+    std::printf("usage: kurage schema\n\nPrints the JSON Schema of scene files (scenes/schema.json is this output).\n");
+    return 0;
+  }
+  if (!args.positionals().empty()) args.fail("takes no arguments");
+  std::printf("%s\n", sceneSchema().dump(2).c_str());
+  return 0;
+}
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,65 @@
+// kurage run | sim | surface | render SCENE -o OUT
+#include "pipeline/cli.h"
+#include "pipeline/scene.h"
+#include "sim/simulation.h"
+
+#include <cstdio>
+
+namespace kurage::pipeline {
+
+namespace {
+
+// A fixed step above the scene's own stability bound: a warning, or with --strict an error.
+void checkFixedStep(const Scene& scene, const std::string& file, bool strict) {
+  const sim::TimeStepParams& ts = scene.sim.timeStep;
+  if (ts.mode != sim::TimeStepMode::Fixed) return;
+  const sim::Simulation probe(scene.sim);
+  const sim::StepLimit bound = probe.stabilityLimit();
+  if (ts.fixedStep <= bound.step) return;
+  const std::string message = "the fixed step " + std::to_string(ts.fixedStep) + " s exceeds the " +
+                              std::string(sim::stepBoundName(bound.bound)) + " stability bound " +
+                              std::to_string(bound.step) + " s of this scene's parameters";
+  if (strict) throw SceneError(file, "time_step.fixed_step", message + " (--strict)");
+  std::fprintf(stderr, "kurage: warning: %s: time_step.fixed_step: %s\n", file.c_str(), message.c_str());
+}
+
+}  // namespace
+
+int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
+  ArgParser args(name, std::move(rawArgs));
+  if (args.flag({"-h", "--help"})) {
+    std::printf("usage: kurage %s SCENE -o OUT [--frames A-B] [--threads N] [--progress] [--strict]\n\n", name.c_str());
+    if (name == "run") std::printf("Simulates, surfaces and renders: OUT/particles, OUT/surfaces, OUT/frames.\n\n");
+    if (name == "sim") std::printf("Simulates only: OUT/particles/NNNN.vdb.\n\n");
+    if (name == "surface") std::printf("Metaball level sets from OUT/particles: OUT/surfaces/NNNN.vdb.\n\n");
+    if (name == "render") std::printf("Frames from OUT/surfaces: OUT/frames/NNNN.png.\n\n");
+    std::printf("options:\n%s  --strict           a fixed time step above the scene's stability bound is an error\n",
+                kStageOptionsHelp);
+    return 0;
+  }
+  const bool strict = args.flag({"--strict"});
+  const StageCommandOptions options = parseStageOptions(args, true);
+  const std::vector<std::string> positional = args.positionals();
+  if (positional.size() != 1) args.fail("expected one SCENE");
+  const std::string& sceneFile = positional[0];
+
+  // Everything is validated before the output folder is touched.
+  const Scene scene = loadScene(sceneFile);
+  frameRange(scene, options.stage);
+  checkFixedStep(scene, sceneFile, strict);
+
+  ThreadLimit threads(options.threads);
+  std::filesystem::create_directories(options.stage.outDir);
+  RunRecord record(options.stage.outDir, scene, sceneFile);
+  record.data()["threads"] = ThreadLimit::current();
+  const bool all = name == "run";
+  if (all || name == "sim") runSimStage(scene, options.stage, record);
+  if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
+  if (all || name == "render") runRenderStage(scene, options.stage, record);
+  const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
+  const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
+  std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());
+  return 0;
+}
+
+}  // namespace kurage::pipeline
