@@ -14,6 +14,7 @@
 #include <openvdb/points/PointDataGrid.h>
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -69,7 +70,7 @@ double chooseVoxelSize(const ParticleFrame& frame) {
 void checkFrame(const std::filesystem::path& path, const ParticleFrame& f) {
   const size_t n = f.size();
   if (f.py.size() != n || f.pz.size() != n || f.vx.size() != n || f.vy.size() != n || f.vz.size() != n ||
-      f.id.size() != n || f.kind.size() != n) {
+      f.id.size() != n || f.kind.size() != n || (!f.restDensityFactor.empty() && f.restDensityFactor.size() != n)) {
     fail("cannot write particles to", path, "arrays of different lengths");
   }
   for (size_t i = 0; i < n; ++i) {
@@ -131,6 +132,9 @@ void writeParticleFrame(const std::filesystem::path& path, const ParticleFrame& 
     vp::populateAttribute(tree, indexTree, "id", vp::PointAttributeVector<int64_t>(frame.id));
     vp::appendAttribute<int32_t>(tree, "kind");
     vp::populateAttribute(tree, indexTree, "kind", vp::PointAttributeVector<int32_t>(frame.kind));
+    const std::vector<float> factor = frame.restDensityFactor.empty() ? std::vector<float>(n, 1.0f) : frame.restDensityFactor;
+    vp::appendAttribute<float, vp::NullCodec>(tree, "rest_density_factor");
+    vp::populateAttribute(tree, indexTree, "rest_density_factor", vp::PointAttributeVector<float>(factor));
 
     openvdb::MetaMap meta;
     meta.insertMeta("kurage:time", openvdb::DoubleMetadata(frame.time));
@@ -184,6 +188,7 @@ ParticleFrame readParticleFrame(const std::filesystem::path& path) {
     float p[3], v[3];
     int64_t id;
     int32_t kind;
+    float restDensityFactor;
   };
   std::vector<Raw> raw;
   const openvdb::math::Transform& xform = grid->transform();
@@ -212,11 +217,14 @@ ParticleFrame readParticleFrame(const std::filesystem::path& path) {
       const vp::AttributeHandle<openvdb::Vec3f> velocity(leaf->constAttributeArray("v"));
       const vp::AttributeHandle<int64_t> id(leaf->constAttributeArray("id"));
       const vp::AttributeHandle<int32_t> kind(leaf->constAttributeArray("kind"));
+      const bool hasFactor = descriptor.find("rest_density_factor") != vp::AttributeSet::INVALID_POS;
+      std::optional<vp::AttributeHandle<float>> factor;
+      if (hasFactor) factor.emplace(leaf->constAttributeArray("rest_density_factor"));
       for (auto index = leaf->beginIndexOn(); index; ++index) {
         const openvdb::Vec3d world = toWorld(index.getCoord(), position.get(*index));
         const openvdb::Vec3f v = velocity.get(*index);
         raw.push_back(Raw{{float(world[0]), float(world[1]), float(world[2])}, {v[0], v[1], v[2]}, id.get(*index),
-                          kind.get(*index)});
+                          kind.get(*index), factor ? factor->get(*index) : 1.0f});
       }
     }
   } catch (const CacheError&) {
@@ -230,7 +238,9 @@ ParticleFrame readParticleFrame(const std::filesystem::path& path) {
   for (auto* array : {&frame.px, &frame.py, &frame.pz, &frame.vx, &frame.vy, &frame.vz}) array->resize(n);
   frame.id.resize(n);
   frame.kind.resize(n);
+  frame.restDensityFactor.resize(n);
   for (size_t i = 0; i < n; ++i) {
+    frame.restDensityFactor[i] = raw[i].restDensityFactor;
     frame.px[i] = raw[i].p[0];
     frame.py[i] = raw[i].p[1];
     frame.pz[i] = raw[i].p[2];

@@ -5,6 +5,8 @@
 //   v     vec3f  velocity, m/s (no codec)
 //   id    int64  stable particle id, unique within a run, kept from frame to frame
 //   kind  int32  0 = fluid, k >= 1 = the k-th body of the scene (bodies[k-1])
+//   rest_density_factor  float  rho0_i / rho0 of the particle's phase: L^dens (SPEC §3.3) for
+//                body particles, 1 for fluid. Optional on reading (absent -> 1).
 // and file metadata:
 //   kurage:time   double  simulated time of the frame, seconds
 //   kurage:frame  int32   output frame index
@@ -29,6 +31,8 @@ struct ParticleFrame {
   std::vector<float> vx, vy, vz;
   std::vector<int64_t> id;
   std::vector<int32_t> kind;
+  std::vector<float> restDensityFactor;  // empty when writing means all 1
+
 
   size_t size() const { return px.size(); }
 };

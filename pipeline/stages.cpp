@@ -24,7 +24,8 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-ParticleFrame toFrame(const sim::ParticleSet& p, double time, int frame) {
+// `phaseRestDensity[k]` is the initial rest density of kind k (fluid, then each body).
+ParticleFrame toFrame(const sim::ParticleSet& p, double time, int frame, const std::vector<float>& phaseRestDensity) {
   ParticleFrame f;
   f.time = time;
   f.frame = frame;
@@ -32,6 +33,8 @@ ParticleFrame toFrame(const sim::ParticleSet& p, double time, int frame) {
   f.vx = p.vx; f.vy = p.vy; f.vz = p.vz;
   f.id = p.id;
   f.kind = p.kind;
+  f.restDensityFactor.resize(p.size());
+  for (size_t i = 0; i < p.size(); ++i) f.restDensityFactor[i] = p.restDensity[i] / phaseRestDensity[size_t(p.kind[i])];
   return f;
 }
 
@@ -90,10 +93,11 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   const fs::path folder = options.outDir / "particles";
   fs::create_directories(folder);
   sim::Simulation simulation(scene.sim);
+  const std::vector<float> phaseRestDensity{scene.sim.fluid.restDensity};
   Progress progress("sim", last + 1, options.progress);
   for (int f = 0; f <= last; ++f) {
     simulation.advanceTo(scene.output.frameTime(f));
-    if (f >= first) writeParticleFrame(frameFile(folder, f, "vdb"), toFrame(simulation.particles(), simulation.time(), f));
+    if (f >= first) writeParticleFrame(frameFile(folder, f, "vdb"), toFrame(simulation.particles(), simulation.time(), f, phaseRestDensity));
     progress.advance(f + 1);
   }
   progress.finish();

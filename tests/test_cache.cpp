@@ -60,6 +60,7 @@ ParticleFrame randomFrame(size_t n, unsigned seed) {
     f.vz.push_back(speed(rng));
     f.id.push_back(ids[i]);
     f.kind.push_back(int32_t(i % 3));
+    f.restDensityFactor.push_back(i % 3 == 0 ? 1.0f : 0.37f + 0.11f * float(i % 17));
   }
   // Exact edge values: zero, negative zero, large, a half-way point of the power-of-two grid.
   f.px[1] = 0.0f;
@@ -86,6 +87,7 @@ ParticleFrame sortedById(const ParticleFrame& f) {
     s.vz[i] = f.vz[order[i]];
     s.id[i] = f.id[order[i]];
     s.kind[i] = f.kind[order[i]];
+    if (!f.restDensityFactor.empty()) s.restDensityFactor[i] = f.restDensityFactor[order[i]];
   }
   return s;
 }
@@ -108,6 +110,10 @@ void expectSameFrame(const ParticleFrame& expected, const ParticleFrame& actual)
   EXPECT_TRUE(sameBits(actual.vz, expected.vz));
   EXPECT_EQ(actual.id, expected.id);
   EXPECT_EQ(actual.kind, expected.kind);
+  if (expected.restDensityFactor.empty())  // written as all 1
+    EXPECT_EQ(actual.restDensityFactor, std::vector<float>(expected.size(), 1.0f));
+  else
+    EXPECT_TRUE(sameBits(actual.restDensityFactor, expected.restDensityFactor));
 }
 
 TEST(ParticleCache, RoundTripIsBitExact) {
