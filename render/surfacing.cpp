@@ -12,6 +12,8 @@
 // the inactive interior is flood-filled with -background.
 #include "render/surfacing.h"
 
+#include "render/level_set_impl.h"
+
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <openvdb/tools/Interpolation.h>
@@ -36,10 +38,6 @@
 #include <system_error>
 
 namespace kurage::render {
-
-struct LevelSet::Impl {
-  openvdb::FloatGrid::Ptr grid;  // null for a default-constructed level set
-};
 
 LevelSet::LevelSet() : impl(std::make_unique<Impl>()) {}
 LevelSet::~LevelSet() = default;
