@@ -20,9 +20,11 @@ constexpr const char* kUsage =
     "  sim SCENE -o OUT      simulate only: OUT/particles/NNNN.vdb\n"
     "  surface SCENE -o OUT  metaball level sets from the caches: OUT/surfaces/NNNN.vdb\n"
     "  render SCENE -o OUT   frames from the level sets: OUT/frames/NNNN.png\n"
+    "  preview SCENE -o OUT  particles as spheres (OpenGL): OUT/preview/NNNN.png, preview.mp4\n"
     "  check SCENE           validate a scene file and exit\n"
     "  schema                print the JSON Schema of scene files\n"
     "  bench sim             simulation throughput (particle-steps per second)\n"
+    "  bench surface         surfacing throughput (particles per second to level sets, meshes)\n"
     "  --version             versions of kurage and its libraries\n"
     "\n"
     "Run `kurage <command> --help` for the options of a command.\n";
@@ -41,6 +43,7 @@ int dispatch(const std::string& command, std::vector<std::string> args) {
   if (command == "check") return commandCheck(std::move(args));
   if (command == "schema") return commandSchema(std::move(args));
   if (command == "bench") return commandBench(std::move(args));
+  if (command == "preview") return commandPreview(std::move(args));
   throw UsageError("unknown command " + command);
 }
 
