@@ -1,13 +1,75 @@
-// Box walls (SPEC §1, "Wall boundary"): after positions are updated, a particle that entered a
-// wall is moved back onto it (zero distance). NoSlip (the paper) sets its velocity to zero;
-// FreeSlip removes only the velocity component into the wall (SPEC §8).
+// Box walls.
+//
+// The paper's wall (SPEC §1, "Wall boundary"): after positions are updated, a particle that
+// entered a wall is moved back onto it (zero distance). NoSlip (the paper) sets its velocity to
+// zero; FreeSlip removes only the velocity component into the wall (SPEC §8).
+//
+// Optionally (container.wall_density = "wall_weight", our choice, docs/PHYSICS.md) walls also
+// take part in the SPH sums through wall weight functions after Harada, Koshizuka & Kawaguchi,
+// "Improvement of the boundary conditions in smoothed particle hydrodynamics", Computer Graphics
+// & Geometry 9(3), 2007: behind each wall lies a virtual cubic lattice of particles continuing
+// the fluid's initial lattice (first layer half a spacing behind the plane). Its density
+// contribution Z(d) and the normal component of its summed spiky gradient G(d) depend only on
+// the distance d of a particle from the plane (averaged over lateral offsets) and are tabulated
+// once. The virtual particles carry the fluid's rest density and, mirror-like, the pressure of
+// the particle they act on.
 #pragma once
 
+#include "sim/kernels.h"
 #include "sim/params.h"
 #include "sim/particles.h"
 
+#include <vector>
+
 namespace kurage::sim {
 
-void enforceBoxWalls(ParticleSet& particles, const ContainerParams& container);
+// `inset` keeps particle centres that far inside the walls: 0 for the paper's walls, half a
+// spacing with wall weights (a particle stands for a cube of one spacing, and the virtual
+// lattice's first layer lies half a spacing behind the wall: a centre on the wall would sit
+// half a spacing from it and count twice the density it should).
+void enforceBoxWalls(ParticleSet& particles, const ContainerParams& container, float inset = 0.0f);
+
+class WallWeights {
+public:
+  WallWeights(float spacing, float supportRadius, float particleMass);
+
+  // Sum over the virtual wall lattice of m W_poly6, for a particle at distance d in front of the
+  // wall (d >= h gives 0; d < 0 is treated as 0).
+  float density(float d) const { return lookup(density_, d); }
+  // Normal component (pointing from the wall into the fluid) of -sum m grad W_spiky(r_i - r_j):
+  // positive, so that pressure pushes the particle away from the wall.
+  float gradient(float d) const { return lookup(gradient_, d); }
+
+private:
+  float lookup(const std::vector<float>& table, float d) const;
+  float h_;
+  float step_;
+  std::vector<float> density_, gradient_;
+};
+
+// The walls of a box container seen by one particle: density contribution and the (unit-mass
+// free) pressure direction terms summed over the six walls.
+struct WallContribution {
+  float density = 0.0f;
+  Eigen::Vector3f gradient = Eigen::Vector3f::Zero();  // sum over walls of G(d) * inward normal
+};
+
+inline WallContribution boxWallContribution(const WallWeights& weights, const ContainerParams& box, float h, float x,
+                                            float y, float z) {
+  WallContribution c;
+  const float p[3] = {x, y, z};
+  for (int a = 0; a < 3; ++a) {
+    const float dLow = p[a] - box.min[a], dHigh = box.max[a] - p[a];
+    if (dLow < h) {
+      c.density += weights.density(dLow);
+      c.gradient[a] += weights.gradient(dLow);
+    }
+    if (dHigh < h) {
+      c.density += weights.density(dHigh);
+      c.gradient[a] -= weights.gradient(dHigh);
+    }
+  }
+  return c;
+}
 
 }  // namespace kurage::sim

@@ -9,7 +9,7 @@
 namespace kurage::sim {
 
 void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
-                    NeighborLists& neighbors) {
+                    NeighborLists& neighbors, const WallSums& walls) {
   const size_t count = particles.size();
   const float* x = particles.x.data();
   const float* y = particles.y.data();
@@ -47,6 +47,7 @@ void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly
       buffer.resize(begin + found);
       neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));
       rho[i] = poly6.coefficient * sum;  // (3)
+      if (walls.weights) rho[i] += boxWallContribution(*walls.weights, walls.box, poly6.h, xi, yi, zi).density;
     }
   });
 }
@@ -63,9 +64,12 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
   }
 }
 
-void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
-                              const ViscosityKernel& viscosity, float dynamicViscosity,
-                              const Eigen::Vector3f& gravity) {
+namespace {
+
+template <PressureForce Form>
+void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
+                const ViscosityKernel& viscosity, float dynamicViscosity, const Eigen::Vector3f& gravity,
+                const WallSums& walls) {
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -89,6 +93,8 @@ void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& parti
       const float xi = x[i], yi = y[i], zi = z[i];
       const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
       const float pi = p[i];
+      const float rhoI = rho[i];
+      const float piOverRho2 = pi / (rhoI * rhoI);
       float fpx = 0, fpy = 0, fpz = 0;  // pressure force density / (45 / (pi h^6))
       float fvx = 0, fvy = 0, fvz = 0;  // viscosity force density / (mu 45 / (pi h^6))
       for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it) {
@@ -107,19 +113,43 @@ void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& parti
           ux = id[i] < id[j] ? -1.0f : 1.0f; uy = 0.0f; uz = 0.0f;
         }
         const float t = h - dist;
-        // (5): -m_j (p_i + p_j) / (2 rho_j) * (-45/(pi h^6)) (h - r)^2 r_hat
-        const float press = 0.5f * mOverRho * (pi + p[j]) * t * t;
+        float press;
+        if constexpr (Form == PressureForce::Mueller2003)
+          // (5): -m_j (p_i + p_j) / (2 rho_j) * (-45/(pi h^6)) (h - r)^2 r_hat
+          press = 0.5f * mOverRho * (pi + p[j]) * t * t;
+        else  // rho_i m_j (p_i / rho_i^2 + p_j / rho_j^2) (h - r)^2
+          press = rhoI * m[j] * (piOverRho2 + p[j] / (rho[j] * rho[j])) * t * t;
         fpx += press * ux; fpy += press * uy; fpz += press * uz;
         // (6): mu m_j (v_j - v_i) / rho_j * 45/(pi h^6) (h - r)
         const float visc = mOverRho * t;
         fvx += visc * (vx[j] - vxi); fvy += visc * (vy[j] - vyi); fvz += visc * (vz[j] - vzi);
       }
-      const float invRho = 1.0f / rho[i];
-      ax[i] = (gradC * fpx + lapC * fvx) * invRho + gravity.x();
-      ay[i] = (gradC * fpy + lapC * fvy) * invRho + gravity.y();
-      az[i] = (gradC * fpz + lapC * fvz) * invRho + gravity.z();
+      float wx = 0, wy = 0, wz = 0;  // wall pressure force density
+      if (walls.weights) {
+        // Virtual wall particles: rest density rho0, the pressure of particle i (mirror).
+        const WallContribution c = boxWallContribution(*walls.weights, walls.box, h, xi, yi, zi);
+        float factor;
+        if constexpr (Form == PressureForce::Mueller2003) factor = pi / walls.restDensity;
+        else factor = rhoI * (piOverRho2 + pi / (walls.restDensity * walls.restDensity));
+        wx = factor * c.gradient.x(); wy = factor * c.gradient.y(); wz = factor * c.gradient.z();
+      }
+      const float invRho = 1.0f / rhoI;
+      ax[i] = (gradC * fpx + wx + lapC * fvx) * invRho + gravity.x();
+      ay[i] = (gradC * fpy + wy + lapC * fvy) * invRho + gravity.y();
+      az[i] = (gradC * fpz + wz + lapC * fvz) * invRho + gravity.z();
     }
   });
+}
+
+}  // namespace
+
+void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
+                              const ViscosityKernel& viscosity, float dynamicViscosity,
+                              const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls) {
+  if (form == PressureForce::Mueller2003)
+    accelerate<PressureForce::Mueller2003>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls);
+  else
+    accelerate<PressureForce::Monaghan1992>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls);
 }
 
 float calibratedParticleMass(float spacing, float supportRadius, float restDensity) {

@@ -4,6 +4,7 @@
 // on the number of threads.
 #pragma once
 
+#include "sim/boundary.h"
 #include "sim/kernels.h"
 #include "sim/neighbor_grid.h"
 #include "sim/params.h"
@@ -11,21 +12,30 @@
 
 namespace kurage::sim {
 
-// (3) rho_i = sum_j m_j W_poly6(r_ij); also finds every particle's neighbours (|r_ij| < h).
+// Box walls that take part in the SPH sums (wall weight functions), or none.
+struct WallSums {
+  const WallWeights* weights = nullptr;  // null: the paper's walls, no contribution
+  ContainerParams box;
+  float restDensity = 1000.0f;  // rho0 of the virtual wall particles
+};
+
+// (3) rho_i = sum_j m_j W_poly6(r_ij) (+ the walls' Z(d)); also finds every particle's
+// neighbours (|r_ij| < h).
 void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
-                    NeighborLists& neighbors);
+                    NeighborLists& neighbors, const WallSums& walls);
 
 // (4) p_i = k_press (rho_i - rho0_i), clamped at zero when the scene asks for it (SPEC §8).
 void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure);
 
-// (5) f_i^press = -sum_j m_j (p_i + p_j) / (2 rho_j) grad W_spiky(r_i - r_j)
+// (5) f_i^press = -sum_j m_j (p_i + p_j) / (2 rho_j) grad W_spiky(r_i - r_j)   (Mueller2003)
+//     or -rho_i sum_j m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W_spiky          (Monaghan1992)
 // (6) f_i^vis   = mu sum_j m_j (v_j - v_i) / rho_j lap W_visc(|r_ij|),  mu = rho0 nu
 // writes a_i = (f_i^press + f_i^vis) / rho_i + gravity  (force densities divided by density).
 // Two particles at the same position push each other apart along +-x, ordered by id, so the
 // result stays finite and symmetric.
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
-                              const Eigen::Vector3f& gravity);
+                              const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls);
 
 // Mass that gives a particle deep inside a cubic lattice of the given spacing exactly the
 // rest density with the poly6 kernel (SPEC §1, our calibration): m = rho0 / sum_j W(r_j).

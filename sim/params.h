@@ -21,6 +21,20 @@ enum class WallSlip {
 
 enum class TimeStepMode { Fixed, Adaptive };
 
+enum class PressureForce {
+  Mueller2003,   // (5) as in the paper: -sum m_j (p_i + p_j) / (2 rho_j) grad W. It recovers only
+                 // half of grad p in the interior, so a fluid at rest carries twice the physical
+                 // pressure (docs/PHYSICS.md)
+  Monaghan1992,  // -rho_i sum m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W: momentum-conserving and
+                 // consistent (grad p of a linear field is recovered)
+};
+
+enum class WallDensity {
+  None,        // the paper's walls: only the position clamp; particles near a wall miss kernel mass
+  WallWeight,  // wall weight functions (Harada, Koshizuka & Kawaguchi 2007): the density and
+               // pressure contributions of a virtual particle lattice behind each wall
+};
+
 struct FluidParams {
   float spacing = 1.0f;             // l_avr, m (SPEC §2)
   float supportRadius = 1.5f;       // h / l_avr (SPEC §2: r_e = 1.5 l_avr)
@@ -28,6 +42,7 @@ struct FluidParams {
   float pressureStiffness = 2.2f;   // k_press, (m/s)^2
   float kinematicViscosity = 0.3f;  // nu, m^2/s
   NegativePressure negativePressure = NegativePressure::Clamp;
+  PressureForce pressureForce = PressureForce::Mueller2003;
 
   float supportRadiusMetres() const { return supportRadius * spacing; }
   float speedOfSound() const;  // sqrt(k_press), m/s
@@ -37,11 +52,31 @@ struct ContainerParams {
   Eigen::Vector3f min{0, 0, 0};  // m
   Eigen::Vector3f max{10, 10, 10};
   WallSlip walls = WallSlip::NoSlip;
+  WallDensity wallDensity = WallDensity::None;
 };
 
 // An axis-aligned block filled with fluid particles on a cubic lattice of the fluid spacing,
 // the first particle half a spacing inside `min`.
 struct FluidBlock {
+  Eigen::Vector3f min{0, 0, 0};
+  Eigen::Vector3f max{1, 1, 1};
+};
+
+// A nozzle (the jellyfish's faucets, SPEC §4.3): a disc of `radius` at `position`, facing
+// `direction`, that emits fluid at `speed` from `start` to `end`. Particles are spawned in
+// layers one fluid spacing apart, each layer a sunflower (Vogel) pattern of the disc whose count
+// keeps the emitted volume equal to area x speed x time to within one particle.
+struct EmitterParams {
+  Eigen::Vector3f position{0, 0, 0};   // m, centre of the nozzle disc
+  Eigen::Vector3f direction{1, 0, 0};  // outflow direction (normalised on use)
+  float radius = 1.0f;                 // m
+  float speed = 2.0f;                  // m/s
+  float start = 0.0f;                  // s
+  float end = 1.0f;                    // s
+};
+
+// A region that removes the fluid particles that enter it (an outflow).
+struct SinkParams {
   Eigen::Vector3f min{0, 0, 0};
   Eigen::Vector3f max{1, 1, 1};
 };
@@ -61,6 +96,8 @@ struct SimParams {
   Eigen::Vector3f gravity{0.0f, 0.0f, -6.0f};  // m/s^2 (SPEC §2: g = 6.0)
   ContainerParams container;
   std::vector<FluidBlock> fluidBlocks;
+  std::vector<EmitterParams> emitters;
+  std::vector<SinkParams> sinks;
   TimeStepParams timeStep;
 };
 

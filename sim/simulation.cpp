@@ -23,6 +23,8 @@ std::string_view stageName(Stage stage) {
     case Stage::Forces: return "pressure_viscosity_forces";
     case Stage::Integrate: return "integrate";
     case Stage::Walls: return "walls";
+    case Stage::Emitters: return "emitters";
+    case Stage::Sinks: return "sinks";
     case Stage::Count: break;
   }
   return "?";
@@ -65,9 +67,21 @@ Simulation::Simulation(SimParams params)
     throw std::invalid_argument("simulation: spacing, support radius and rest density must be > 0");
   grid_.configure(params_.container.min, params_.container.max, fluid.supportRadiusMetres());
   fluidMass_ = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity);
-  int64_t nextId = 0;
+  if (params_.container.wallDensity == WallDensity::WallWeight) {
+    wallWeights_ = std::make_unique<WallWeights>(fluid.spacing, fluid.supportRadiusMetres(), fluidMass_);
+    wallSums_.weights = wallWeights_.get();
+  }
+  wallSums_.box = params_.container;
+  wallSums_.restDensity = fluid.restDensity;
+  size_t expected = 0;
+  for (const FluidBlock& block : params_.fluidBlocks) expected += latticePoints(block, fluid.spacing).size();
+  for (const EmitterParams& e : params_.emitters) {
+    emitters_.emplace_back(e, fluid.spacing);
+    expected += emitters_.back().expectedTotal();
+  }
+  particles_.reserve(expected);
   for (const FluidBlock& block : params_.fluidBlocks)
-    addFluidBlock(particles_, block, fluid.spacing, fluid.restDensity, fluidMass_, nextId);
+    addFluidBlock(particles_, block, fluid.spacing, fluid.restDensity, fluidMass_, nextId_);
 }
 
 float FluidParams::speedOfSound() const { return std::sqrt(pressureStiffness); }
@@ -82,7 +96,7 @@ void Simulation::computeAccelerations() {
   sortParticles();
   {
     StageTimer timer(stats_, Stage::Density);
-    computeDensity(grid_, particles_, poly6_, neighbors_);
+    computeDensity(grid_, particles_, poly6_, neighbors_, wallSums_);
   }
   {
     StageTimer timer(stats_, Stage::Pressure);
@@ -91,12 +105,13 @@ void Simulation::computeAccelerations() {
   {
     StageTimer timer(stats_, Stage::Forces);
     const float mu = params_.fluid.restDensity * params_.fluid.kinematicViscosity;  // mu = rho0 nu
-    computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity);
+    computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity,
+                             params_.fluid.pressureForce, wallSums_);
   }
   accelerationsValid_ = true;
 }
 
-void Simulation::integrate(float dt) {
+void Simulation::integrate(float dt, double newTime) {
   {
     StageTimer timer(stats_, Stage::Integrate);
     ParticleSet& p = particles_;
@@ -110,10 +125,22 @@ void Simulation::integrate(float dt) {
   }
   {
     StageTimer timer(stats_, Stage::Walls);
-    enforceBoxWalls(particles_, params_.container);  // (15)
+    enforceBoxWalls(particles_, params_.container, wallSums_.weights ? 0.5f * params_.fluid.spacing : 0.0f);  // (15)
   }
   accelerationsValid_ = false;
-  time_ += dt;
+  time_ = newTime;
+  if (!emitters_.empty()) {
+    StageTimer timer(stats_, Stage::Emitters);
+    for (Emitter& e : emitters_) {
+      const uint64_t blockedBefore = e.blocked();
+      stats_.emitted += e.emit(time_, dt, particles_, fluidMass_, params_.fluid.restDensity, nextId_);
+      stats_.emitterBlocked += e.blocked() - blockedBefore;
+    }
+  }
+  if (!params_.sinks.empty()) {
+    StageTimer timer(stats_, Stage::Sinks);
+    for (const SinkParams& sink : params_.sinks) stats_.removed += applySink(sink, particles_, sinkFlags_);
+  }
   ++stats_.steps;
   if (stats_.steps == 1 || dt < stats_.minStep) stats_.minStep = dt;
   if (dt > stats_.maxStep) stats_.maxStep = dt;
@@ -121,7 +148,7 @@ void Simulation::integrate(float dt) {
 
 void Simulation::step(float dt) {
   computeAccelerations();
-  integrate(dt);
+  integrate(dt, time_ + dt);
 }
 
 StepLimit Simulation::nextStepLimit() const {
@@ -177,8 +204,7 @@ void Simulation::advanceTo(double t) {
     if (remaining <= dt) dt = float(remaining);                    // land exactly on the frame
     else if (remaining < 1.5 * dt) dt = float(0.5 * remaining);    // avoid a sliver step
     ++stats_.boundCounts[size_t(limit.bound)];
-    integrate(dt);
-    if (remaining <= limit.step) time_ = t;  // exact frame time, free of rounding
+    integrate(dt, remaining <= limit.step ? t : time_ + dt);  // frames land on their exact time
     const float vmax = maxOver(particles_.size(), [&](size_t i) {
       const float s = std::fabs(particles_.vx[i]) + std::fabs(particles_.vy[i]) + std::fabs(particles_.vz[i]);
       return std::isfinite(s) ? s : std::numeric_limits<float>::infinity();

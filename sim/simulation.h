@@ -3,9 +3,12 @@
 //
 // Step (fluid only so far): 1-2 sort into buckets, 3 density, 6 pressure, 7-8 pressure and
 // viscosity forces, 10 gravity, 11 acceleration, 12 v += a dt, 13 x += v dt (symplectic Euler),
-// 15 walls.
+// 15 walls; then emitters add and sinks remove fluid particles (only when the scene has them).
 #pragma once
 
+#include "sim/boundary.h"
+#include "sim/emitter.h"
+#include "sim/fluid.h"
 #include "sim/kernels.h"
 #include "sim/neighbor_grid.h"
 #include "sim/params.h"
@@ -13,6 +16,7 @@
 #include "sim/time_step.h"
 
 #include <array>
+#include <memory>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
@@ -25,7 +29,7 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-enum class Stage { Sort, Density, Pressure, Forces, Integrate, Walls, Count };
+enum class Stage { Sort, Density, Pressure, Forces, Integrate, Walls, Emitters, Sinks, Count };
 std::string_view stageName(Stage stage);
 
 struct SimStats {
@@ -34,6 +38,9 @@ struct SimStats {
   double maxStep = 0.0;
   std::array<uint64_t, size_t(StepBound::Count)> boundCounts{};
   std::array<double, size_t(Stage::Count)> stageSeconds{};  // wall time per stage
+  uint64_t emitted = 0;         // particles spawned by emitters
+  uint64_t emitterBlocked = 0;  // emitter positions skipped because a particle was there
+  uint64_t removed = 0;         // particles removed by sinks
   bool stageRan(Stage s) const { return stageSeconds[size_t(s)] > 0.0; }
 };
 
@@ -71,7 +78,7 @@ public:
 private:
   void sortParticles();
   void computeAccelerations();
-  void integrate(float dt);
+  void integrate(float dt, double newTime);
 
   SimParams params_;
   ParticleSet particles_;
@@ -82,6 +89,11 @@ private:
   Poly6Kernel poly6_;
   SpikyKernel spiky_;
   ViscosityKernel viscosity_;
+  std::unique_ptr<WallWeights> wallWeights_;
+  WallSums wallSums_;
+  std::vector<Emitter> emitters_;
+  std::vector<uint8_t> sinkFlags_;
+  int64_t nextId_ = 0;
   float fluidMass_ = 0.0f;
   double time_ = 0.0;
   bool accelerationsValid_ = false;
