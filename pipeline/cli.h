@@ -61,6 +61,7 @@ int commandStage(const std::string& name, std::vector<std::string> args);  // ru
 int commandCheck(std::vector<std::string> args);
 int commandSchema(std::vector<std::string> args);
 int commandBench(std::vector<std::string> args);  // dispatches to the bench* functions below
+int commandStill(std::vector<std::string> args);  // pipeline/cmd_still.cpp
 int commandPreview(std::vector<std::string> args);  // pipeline/cmd_preview.cpp
 int benchSim(ArgParser& args);      // pipeline/cmd_bench_sim.cpp
 int benchRender(ArgParser& args);   // pipeline/cmd_bench_render.cpp

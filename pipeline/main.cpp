@@ -21,9 +21,11 @@ constexpr const char* kUsage =
     "  surface SCENE -o OUT  metaball level sets from the caches: OUT/surfaces/NNNN.vdb\n"
     "  render SCENE -o OUT   frames from the level sets: OUT/frames/NNNN.png\n"
     "  preview SCENE -o OUT  particles as spheres (OpenGL): OUT/preview/NNNN.png, preview.mp4\n"
+    "  still SCENE --time T -o FILE.png   one path-traced frame at any time and resolution\n"
     "  check SCENE           validate a scene file and exit\n"
     "  schema                print the JSON Schema of scene files\n"
     "  bench sim             simulation throughput (particle-steps per second)\n"
+    "  bench render          path tracer throughput (Mrays/s, s/frame at 1280x720, 1 and 2 threads)\n"
     "  bench surface         surfacing throughput (particles per second to level sets, meshes)\n"
     "  --version             versions of kurage and its libraries\n"
     "\n"
@@ -43,6 +45,7 @@ int dispatch(const std::string& command, std::vector<std::string> args) {
   if (command == "check") return commandCheck(std::move(args));
   if (command == "schema") return commandSchema(std::move(args));
   if (command == "bench") return commandBench(std::move(args));
+  if (command == "still") return commandStill(std::move(args));
   if (command == "preview") return commandPreview(std::move(args));
   throw UsageError("unknown command " + command);
 }

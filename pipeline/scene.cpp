@@ -57,7 +57,21 @@ void validate(const Scene& scene, const std::string& file) {
   if ((cam.position - cam.lookAt).norm() <= 0.0f) fail("render.camera.look_at", "must differ from the camera position");
   if (cam.up.cross(cam.lookAt - cam.position).norm() <= 1e-6f * cam.up.norm() * (cam.lookAt - cam.position).norm())
     fail("render.camera.up", "must not be parallel to the viewing direction");
-  if (scene.render.light.direction.norm() <= 0.0f) fail("render.light.direction", "must not be zero");
+  if (scene.render.sun.direction.norm() <= 0.0f) fail("render.light.direction", "must not be zero");
+  const RenderParams& render = scene.render;
+  if (render.bitDepth != 8 && render.bitDepth != 16) fail("render.bit_depth", "must be 8 or 16");
+  for (size_t i = 1; i < render.cameraKeys.size(); ++i)
+    if (!(render.cameraKeys[i].time > render.cameraKeys[i - 1].time))
+      fail("render.camera_keys[" + std::to_string(i) + "].time", "must be later than the key before");
+  for (size_t i = 0; i < render.cameraKeys.size(); ++i)
+    if ((render.cameraKeys[i].lookAt - render.cameraKeys[i].position).cross(cam.up).norm() <= 0.0f)
+      fail("render.camera_keys[" + std::to_string(i) + "].look_at", "must differ from position and not lie along camera.up");
+  for (size_t i = 0; i < render.areaLights.size(); ++i)
+    if (render.areaLights[i].edgeU.cross(render.areaLights[i].edgeV).norm() <= 0.0f)
+      fail("render.area_lights[" + std::to_string(i) + "].edge_v", "must not be parallel to edge_u (zero area)");
+  if (render.environment.type == render::EnvironmentType::Image && render.environment.image.empty())
+    fail("render.environment.image", "is required when the type is \"image\"");
+  if (render.clip.enabled && render.clip.normal.norm() <= 0.0f) fail("render.clip.normal", "must not be zero");
   if (scene.render.ground.normal.norm() <= 0.0f) fail("render.ground.normal", "must not be zero");
   const render::MetaballParams& blob = scene.surface.fluid;
   if (blob.threshold >= blob.strength)

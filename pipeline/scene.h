@@ -29,16 +29,38 @@ struct SurfaceParams {
   render::MetaballParams fluid;
 };
 
-struct MaterialParams {
-  Eigen::Vector3f albedo{0.25f, 0.45f, 0.85f};
+// The environment as the scene file gives it (render::Environment holds the decoded image).
+struct EnvironmentParams {
+  render::EnvironmentType type = render::EnvironmentType::Gradient;
+  Eigen::Vector3f zenith{0.35f, 0.55f, 0.9f};
+  Eigen::Vector3f horizon{0.85f, 0.9f, 0.95f};
+  std::string image;  // equirectangular PNG, relative to the working directory
+  float intensity = 1.0f;
+  float rotation = 0.0f;  // degrees about z
+};
+
+// Particles drawn as spheres instead of surfaces (figures that explain the method).
+enum class ParticleColouring { Kind, Speed, RestDensityFactor };
+struct ParticleDisplayParams {
+  bool spheres = false;
+  float radius = 0.0f;  // metres; 0 = 0.4 fluid spacings
+  ParticleColouring colourBy = ParticleColouring::Kind;
+  float rangeMin = 0.0f;  // the value mapped to the start of the colour ramp (speed, factor)
+  float rangeMax = 0.0f;  // ... and to its end; max <= min picks the frame's own range
 };
 
 struct RenderParams {
-  render::RenderSettings settings;  // resolution, samples, sky and ambient (flat in the JSON)
+  render::RenderSettings settings;  // resolution, samples, depth, seed, alpha (flat in the JSON)
+  int bitDepth = 8;                 // PNG bits per channel, 8 or 16
   render::Camera camera;
-  render::DirectionalLight light;
+  std::vector<render::CameraKey> cameraKeys;
+  render::SunLight sun;
+  std::vector<render::RectLight> areaLights;
+  EnvironmentParams environment;
   render::Ground ground;
-  MaterialParams fluidMaterial;
+  render::Material fluidMaterial{render::MaterialType::Dielectric, {0.25f, 0.45f, 0.85f}, 1.33f, {0.12f, 0.04f, 0.02f}};
+  render::ClipPlane clip;
+  ParticleDisplayParams particles;
 };
 
 struct Scene {

@@ -79,18 +79,93 @@ void describe(V& v, SurfaceParams& p) {
   v.object("fluid", p.fluid, {"", "metaball surface of the fluid particles"});
 }
 
+inline const EnumTable<render::MaterialType> kMaterialType{{"diffuse", render::MaterialType::Diffuse},
+                                                          {"dielectric", render::MaterialType::Dielectric},
+                                                          {"translucent", render::MaterialType::Translucent},
+                                                          {"mirror", render::MaterialType::Mirror}};
+inline const EnumTable<render::EnvironmentType> kEnvironmentType{{"gradient", render::EnvironmentType::Gradient},
+                                                                {"uniform", render::EnvironmentType::Uniform},
+                                                                {"image", render::EnvironmentType::Image}};
+inline const EnumTable<ParticleColouring> kParticleColouring{{"kind", ParticleColouring::Kind},
+                                                             {"speed", ParticleColouring::Speed},
+                                                             {"rest_density_factor", ParticleColouring::RestDensityFactor}};
+
 template <class V>
 void describe(V& v, render::Camera& p) {
   v.value("position", p.position, {"m", "eye position"});
   v.value("look_at", p.lookAt, {"m", "point at the image centre"});
   v.value("up", p.up, {"", "up direction (need not be unit length)"});
   v.value("fov", p.verticalFovDegrees, {"deg", "vertical field of view", {0.0, 179.0, true, false}});
+  v.value("aperture", p.apertureRadius, {"m", "lens radius for depth of field; 0 = pinhole, all in focus", nonNegative()});
+  v.value("focus_distance", p.focusDistance,
+          {"m", "distance of the plane in focus along the view direction; 0 = the distance to look_at", nonNegative()});
 }
 
 template <class V>
-void describe(V& v, render::DirectionalLight& p) {
-  v.value("direction", p.direction, {"", "direction the light travels"});
-  v.value("radiance", p.radiance, {"", "irradiance (RGB) on a surface facing the light", nonNegative()});
+void describe(V& v, render::CameraKey& p) {
+  v.value("time", p.time, {"s", "simulated time of this key", nonNegative(), true});
+  v.value("position", p.position, {"m", "eye position", anyValue(), true});
+  v.value("look_at", p.lookAt, {"m", "point at the image centre", anyValue(), true});
+  v.value("fov", p.verticalFovDegrees, {"deg", "vertical field of view", {0.0, 179.0, true, false}});
+}
+
+template <class V>
+void describe(V& v, render::SunLight& p) {
+  v.value("direction", p.direction, {"", "direction the sunlight travels"});
+  v.value("irradiance", p.irradiance, {"", "irradiance (RGB) on a surface facing the sun; 0 turns it off", nonNegative()});
+  v.value("angular_diameter", p.angularDiameterDegrees,
+          {"deg", "apparent size of the sun's disk, for soft shadows; 0 = hard shadows (the real sun: 0.53)",
+           {0.0, 90.0, false, true}});
+}
+
+template <class V>
+void describe(V& v, render::RectLight& p) {
+  v.value("corner", p.corner, {"m", "one corner of the rectangle", anyValue(), true});
+  v.value("edge_u", p.edgeU, {"m", "first edge from the corner", anyValue(), true});
+  v.value("edge_v", p.edgeV, {"m", "second edge; light leaves on the side edge_u x edge_v points to", anyValue(), true});
+  v.value("radiance", p.radiance, {"", "emitted radiance (RGB)", nonNegative(), true});
+}
+
+template <class V>
+void describe(V& v, EnvironmentParams& p) {
+  v.enumeration("type", p.type, kEnvironmentType,
+                {"", "'gradient' (horizon to zenith colour), 'uniform' (zenith colour everywhere) or 'image' "
+                     "(an equirectangular PNG)"});
+  v.value("zenith", p.zenith, {"", "sky radiance straight up (RGB); the uniform radiance for 'uniform'", nonNegative()});
+  v.value("horizon", p.horizon, {"", "sky radiance at and below the horizon (RGB)", nonNegative()});
+  v.value("image", p.image, {"", "equirectangular PNG for 'image', relative to the working directory (e.g. assets/...)"});
+  v.value("intensity", p.intensity, {"", "multiplier of the image's linear values", nonNegative()});
+  v.value("rotation", p.rotation, {"deg", "rotation of the image about z", between(-360.0, 360.0)});
+}
+
+template <class V>
+void describe(V& v, render::Material& p) {
+  v.enumeration("type", p.type, kMaterialType,
+                {"", "'dielectric' (glass, water: Fresnel, refraction, absorption), 'translucent' (tinted soft "
+                     "body), 'diffuse' (Lambert) or 'mirror' (smooth conductor)"});
+  v.value("albedo", p.albedo, {"", "diffuse albedo, translucent tint or mirror reflectance (RGB)", between(0.0, 1.0)});
+  v.value("ior", p.ior, {"", "index of refraction (water 1.33, glass 1.5)", between(1.0, 4.0)});
+  v.value("absorption", p.absorption,
+          {"1/m", "Beer-Lambert absorption coefficient inside (RGB): light keeps exp(-absorption * distance)",
+           nonNegative()});
+}
+
+template <class V>
+void describe(V& v, render::ClipPlane& p) {
+  v.value("enabled", p.enabled, {"", "cut the surfaces and particles (not the ground) with a plane"});
+  v.value("point", p.point, {"m", "a point of the clip plane"});
+  v.value("normal", p.normal, {"", "everything on the side this normal points to is removed"});
+}
+
+template <class V>
+void describe(V& v, ParticleDisplayParams& p) {
+  v.value("spheres", p.spheres, {"", "draw the particles as spheres instead of the surfaces"});
+  v.value("radius", p.radius, {"m", "sphere radius; 0 = 0.4 fluid spacings", nonNegative()});
+  v.enumeration("color_by", p.colourBy, kParticleColouring,
+                {"", "sphere colour: 'kind' (fluid blue, bodies other hues), 'speed' or 'rest_density_factor' "
+                     "on a colour ramp"});
+  v.value("range_min", p.rangeMin, {"", "value at the start of the colour ramp (m/s for speed)"});
+  v.value("range_max", p.rangeMax, {"", "value at its end; range_max <= range_min uses the frame's own range"});
 }
 
 template <class V>
@@ -104,22 +179,27 @@ void describe(V& v, render::Ground& p) {
 }
 
 template <class V>
-void describe(V& v, MaterialParams& p) {
-  v.value("albedo", p.albedo, {"", "Lambert albedo (RGB)", between(0.0, 1.0)});
-}
-
-template <class V>
 void describe(V& v, RenderParams& p) {
   v.value("width", p.settings.width, {"px", "image width", between(1, 16384)});
   v.value("height", p.settings.height, {"px", "image height", between(1, 16384)});
-  v.value("samples", p.settings.samplesPerPixel, {"", "samples per pixel (anti-aliasing)", between(1, 4096)});
-  v.value("sky_zenith", p.settings.skyZenith, {"", "sky colour overhead (RGB radiance)", nonNegative()});
-  v.value("sky_horizon", p.settings.skyHorizon, {"", "sky colour at the horizon (RGB radiance)", nonNegative()});
-  v.value("ambient", p.settings.ambient, {"", "fraction of the sky colour added as ambient light", between(0.0, 1.0)});
-  v.object("camera", p.camera, {"", "pinhole camera"});
-  v.object("light", p.light, {"", "directional light with shadows"});
-  v.object("ground", p.ground, {"", "ground plane"});
-  v.object("fluid_material", p.fluidMaterial, {"", "material of the fluid surface"});
+  v.value("samples", p.settings.samplesPerPixel, {"", "paths per pixel (noise falls as 1/sqrt(samples))", between(1, 65536)});
+  v.value("max_depth", p.settings.maxDepth,
+          {"", "most scattering events on a path (1 = direct light only); water needs about 8", between(1, 1024)});
+  v.value("seed", p.settings.seed, {"", "random seed: another seed gives another noise pattern", between(0, 2147483647)});
+  v.value("transparent_background", p.settings.transparentBackground,
+          {"", "PNG with alpha: the environment is not seen directly, only in reflections and lighting"});
+  v.value("bit_depth", p.bitDepth, {"", "PNG bits per channel, 8 or 16", between(8, 16)});
+  v.object("camera", p.camera, {"", "perspective camera (thin lens when aperture > 0)"});
+  v.list("camera_keys", p.cameraKeys,
+         {"", "camera keyframes by time, interpolated with a Catmull-Rom spline; when present they replace "
+              "camera.position, look_at and fov"});
+  v.object("light", p.sun, {"", "the sun: directional light with an angular size (soft shadows)"});
+  v.list("area_lights", p.areaLights, {"", "one-sided rectangular area lights"});
+  v.object("environment", p.environment, {"", "radiance from directions that hit nothing: sky"});
+  v.object("ground", p.ground, {"", "infinite diffuse checker ground plane"});
+  v.object("fluid_material", p.fluidMaterial, {"", "material of the fluid surface (default: water)"});
+  v.object("clip", p.clip, {"", "clip plane for cross-section views"});
+  v.object("particles", p.particles, {"", "particles drawn as spheres, for figures that explain the method"});
 }
 
 template <class V>

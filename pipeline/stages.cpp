@@ -3,6 +3,7 @@
 #include "pipeline/files.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
+#include "pipeline/render_scene.h"
 #include "render/tracer.h"
 #include "sim/simulation.h"
 
@@ -166,19 +167,17 @@ void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord&
   record.save();
 }
 
-render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces) {
+render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces, double time,
+                             render::RenderStats* stats) {
   std::vector<render::TriangleMesh> meshes;
-  std::vector<render::SceneObject> objects;
   meshes.reserve(surfaces.size());
+  render::RenderScene view = makeRenderScene(scene, time);
   for (const auto& [name, levelSet] : surfaces) {
     if (levelSet.empty()) continue;
     meshes.push_back(render::meshLevelSet(levelSet));
-    render::Material material;
-    material.albedo = scene.render.fluidMaterial.albedo;
-    objects.push_back({&meshes.back(), material});
+    view.meshes.push_back({&meshes.back(), scene.render.fluidMaterial});  // only "fluid" exists so far
   }
-  return render::renderFrame(objects, scene.render.camera, scene.render.light, scene.render.ground,
-                             scene.render.settings);
+  return render::renderFrame(view, scene.render.settings, stats);
 }
 
 void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
@@ -190,8 +189,10 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
   fs::create_directories(outFolder);
   Progress progress("render", last - first + 1, options.progress);
   for (int f = first; f <= last; ++f) {
-    const render::Image image = renderSurfaces(scene, render::readLevelSets(frameFile(inFolder, f, "vdb")));
-    render::writePng(image, frameFile(outFolder, f, "png"));
+    const render::Image image =
+        renderSurfaces(scene, render::readLevelSets(frameFile(inFolder, f, "vdb")), scene.output.frameTime(f));
+    render::writePng(image, frameFile(outFolder, f, "png"), scene.render.settings.transparentBackground,
+                     scene.render.bitDepth);
     progress.advance(f - first + 1);
   }
   progress.finish();

@@ -52,6 +52,8 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
 
 // Pieces of the stages, for tests and tools.
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
-render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces);
+// Renders the surfaces with the camera at simulated time `time` (camera keys).
+render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces,
+                             double time = 0.0, render::RenderStats* stats = nullptr);
 
 }  // namespace kurage::pipeline

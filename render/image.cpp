@@ -168,6 +168,72 @@ Image readPng(const std::filesystem::path& path) {
   return image;
 }
 
+namespace {
+
+// Encodes 16-bit big-endian rows into `file`. Returns false after a libpng error (message in
+// the error pointer). Owns no C++ objects, so libpng's longjmp skips no destructor.
+bool writePngRows16(png_structp png, png_infop info, std::FILE* file, int width, int height, bool withAlpha,
+                    png_bytep* rows) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_init_io(png, file);
+  png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 16,
+               withAlpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
+               PNG_FILTER_TYPE_DEFAULT);
+  png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+  png_write_info(png, info);
+  png_write_image(png, rows);
+  png_write_end(png, nullptr);
+  return true;
+}
+
+}  // namespace
+
+void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha, int bitDepth) {
+  if (bitDepth == 8) return writePng(image, path, withAlpha);
+  if (bitDepth != 16) throw std::invalid_argument("writePng " + quoted(path) + ": bit depth must be 8 or 16");
+  if (image.width() <= 0 || image.height() <= 0)
+    throw std::runtime_error("writePng " + quoted(path) + ": empty image");
+  const int channels = withAlpha ? 4 : 3;
+  const size_t rowBytes = static_cast<size_t>(image.width()) * channels * 2;
+  std::vector<png_byte> bytes(rowBytes * static_cast<size_t>(image.height()));
+  std::vector<png_bytep> rows(static_cast<size_t>(image.height()));
+  for (int y = 0; y < image.height(); ++y) {
+    png_byte* row = bytes.data() + rowBytes * static_cast<size_t>(y);
+    rows[static_cast<size_t>(y)] = row;
+    for (int x = 0; x < image.width(); ++x)
+      for (int c = 0; c < channels; ++c) {
+        const float p = image.at(x, y)[c];
+        const auto v = static_cast<unsigned>(std::lround(clamp01(c < 3 ? linearToSrgb(p) : p) * 65535.0));
+        row[(x * channels + c) * 2] = static_cast<png_byte>(v >> 8);
+        row[(x * channels + c) * 2 + 1] = static_cast<png_byte>(v & 0xFF);
+      }
+  }
+  std::filesystem::path tmp = path;
+  tmp += ".tmp";
+  bool ok = false;
+  PngError error;
+  {
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(tmp.c_str(), "wb"), &std::fclose);
+    if (!file) throw std::runtime_error("writePng " + quoted(path) + ": cannot create " + quoted(tmp));
+    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, onPngError, onPngWarning);
+    png_infop info = png ? png_create_info_struct(png) : nullptr;
+    ok = info && writePngRows16(png, info, file.get(), image.width(), image.height(), withAlpha, rows.data());
+    png_destroy_write_struct(&png, &info);
+    ok = std::fflush(file.get()) == 0 && ok;
+  }
+  std::error_code ec;
+  if (!ok) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error("writePng " + quoted(path) + ": " + error.message);
+  }
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(tmp, ignored);
+    throw std::runtime_error("writePng " + quoted(path) + ": rename failed: " + ec.message());
+  }
+}
+
 CompareResult compareImages(const Image& actual, const Image& reference, const CompareOptions& options) {
   CompareResult result;
   result.sizesMatch = actual.width() == reference.width() && actual.height() == reference.height();

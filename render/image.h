@@ -36,6 +36,10 @@ private:
 // Throws std::runtime_error naming the path on failure.
 void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha = false);
 
+// Writes a PNG with the given bit depth (8 or 16; sRGB-encoded samples either way, alpha
+// linear), atomically as above.
+void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha, int bitDepth);
+
 // Reads an 8- or 16-bit PNG (grey, grey+alpha, RGB, RGBA). Throws std::runtime_error naming
 // the path if the file is missing or not a PNG.
 Image readPng(const std::filesystem::path& path);

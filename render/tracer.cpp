@@ -1,15 +1,13 @@
-// Embree 3 ray tracer; see tracer.h.
+// Embree 3 path tracer; see tracer.h.
 //
-// Per frame: one RTCDevice and RTCScene holding one triangle geometry per SceneObject (buffers
-// copied into Embree-allocated, correctly padded storage). The ground is an analytic plane
-// intersected here, not in Embree, so it is truly infinite; it receives shadows from meshes
-// but casts none. Shading is Lambert:
-//   albedo * (radiance * max(0, n . -l) * visibility + ambient * (skyZenith + skyHorizon) / 2)
-// i.e. the ambient term is uniform, using the mean sky colour.
-// Pixel sample positions are a Hammersley set (shifted by half a stratum) indexed by sample
-// number, so every pixel is a fixed function of the scene and the image does not depend on
-// tiling or thread count.
+// Per frame: one RTCDevice and RTCScene holding one triangle geometry per mesh and one
+// RTC_GEOMETRY_TYPE_SPHERE_POINT geometry per sphere set (buffers copied into Embree-allocated,
+// correctly padded storage). The ground and the area lights are intersected analytically here.
+// The clip plane is applied by re-tracing past clipped hits, so it needs no Embree filter
+// callbacks. Tiles of 16x16 pixels are rendered in parallel with TBB.
 #include "render/tracer.h"
+
+#include "render/sampling.h"
 
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
@@ -18,6 +16,8 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -34,6 +34,7 @@ using Eigen::Vector3f;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 constexpr int kTileSize = 16;
+constexpr int kMaxClipSkips = 64;  // clipped hits skipped along one ray before giving up
 
 // The first error Embree reports through the device's error callback (any thread).
 struct EmbreeErrors {
@@ -67,15 +68,20 @@ void throwIfError(RTCDevice device, EmbreeErrors& errors, const char* what) {
                              (errors.first.empty() ? "error " + std::to_string(static_cast<int>(code)) : errors.first));
 }
 
-// Copies one mesh into a committed Embree triangle geometry attached to `scene`.
-void addMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, size_t objectIndex) {
-  const std::string name = "scene object " + std::to_string(objectIndex);
+void checkMaterial(const Material& m, const std::string& name) {
+  if (!(m.ior >= 1.0f && m.ior <= 4.0f)) throw std::invalid_argument(name + ": ior must be in [1, 4]");
+  if (!(m.absorption.minCoeff() >= 0.0f)) throw std::invalid_argument(name + ": absorption must be >= 0");
+  if (!(m.albedo.minCoeff() >= 0.0f && m.albedo.maxCoeff() <= 1.0f))
+    throw std::invalid_argument(name + ": albedo must be in [0, 1]");
+}
+
+// Copies one mesh into a committed Embree triangle geometry with the given ID.
+void addMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigned geomID, const std::string& name) {
   if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
     throw std::invalid_argument(name + ": normals must be empty or one per position");
   for (const Eigen::Vector3i& t : mesh.triangles)
     if (t.minCoeff() < 0 || static_cast<size_t>(t.maxCoeff()) >= mesh.positions.size())
       throw std::invalid_argument(name + ": triangle index out of range");
-
   RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
@@ -88,207 +94,401 @@ void addMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, size_t 
       for (int k = 0; k < 3; ++k) indices[3 * i + k] = static_cast<unsigned>(mesh.triangles[i][k]);
   }
   rtcCommitGeometry(geometry);
-  rtcAttachGeometryByID(scene, geometry, static_cast<unsigned>(objectIndex));  // geomID = object index
+  rtcAttachGeometryByID(scene, geometry, geomID);
   rtcReleaseGeometry(geometry);
 }
 
-// Van der Corput radical inverse in base 2.
-float radicalInverse2(unsigned bits) {
-  bits = (bits << 16u) | (bits >> 16u);
-  bits = ((bits & 0x55555555u) << 1u) | ((bits & 0xAAAAAAAAu) >> 1u);
-  bits = ((bits & 0x33333333u) << 2u) | ((bits & 0xCCCCCCCCu) >> 2u);
-  bits = ((bits & 0x0F0F0F0Fu) << 4u) | ((bits & 0xF0F0F0F0u) >> 4u);
-  bits = ((bits & 0x00FF00FFu) << 8u) | ((bits & 0xFF00FF00u) >> 8u);
-  return static_cast<float>(bits) * 0x1p-32f;
+void addSpheres(RTCDevice device, RTCScene scene, const SphereSet& set, unsigned geomID, const std::string& name) {
+  if (!(set.radius > 0.0f)) throw std::invalid_argument(name + ": radius must be > 0");
+  if (!set.colours.empty() && set.colours.size() != set.centres.size())
+    throw std::invalid_argument(name + ": colours must be empty or one per centre");
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), set.centres.size()));
+  if (vertices)
+    for (size_t i = 0; i < set.centres.size(); ++i) {
+      for (int k = 0; k < 3; ++k) vertices[4 * i + k] = set.centres[i][k];
+      vertices[4 * i + 3] = set.radius;
+    }
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometryByID(scene, geometry, geomID);
+  rtcReleaseGeometry(geometry);
 }
 
-// Sub-pixel position of sample s of n in [0,1)^2: Hammersley point shifted by half a stratum
-// (n = 1 gives the pixel centre, n = 4 a rotated-grid pattern).
-Vector2f samplePosition(int s, int n) {
-  const float half = 0.5f / static_cast<float>(n);
-  const float y = radicalInverse2(static_cast<unsigned>(s)) + half;
-  return {(static_cast<float>(s) + 0.5f) / static_cast<float>(n), y >= 1.0f ? y - 1.0f : y};
-}
-
-// Everything a worker thread needs to shade a ray; read-only during rendering.
-struct Frame {
-  RTCScene scene = nullptr;
-  const std::vector<SceneObject>* objects = nullptr;
-  const Ground* ground = nullptr;
-  const RenderSettings* settings = nullptr;
-  Vector3f toLight;        // unit, towards the light
-  Vector3f radiance;
-  Vector3f skyUp;          // unit camera up, for the sky gradient
-  Vector3f ambient;        // ambient * mean sky colour
-  Vector3f groundNormal;   // unit
-  Vector3f groundU, groundV;  // unit, spanning the ground plane (checker axes)
-  float epsilon = 1e-4f;   // ray offset against self-intersection, metres
+// What a geometry ID refers to.
+struct Geometry {
+  const SceneObject* mesh = nullptr;
+  const SphereSet* spheres = nullptr;
 };
 
-Vector3f skyColour(const Frame& f, const Vector3f& direction) {
-  const float t = std::clamp(direction.dot(f.skyUp), 0.0f, 1.0f);  // 0 at horizon, 1 at zenith
-  return (1.0f - t) * f.settings->skyHorizon + t * f.settings->skyZenith;
+// Everything a worker thread needs; read-only during rendering.
+struct Frame {
+  RTCScene scene = nullptr;
+  const RenderScene* input = nullptr;
+  const RenderSettings* settings = nullptr;
+  std::vector<Geometry> geometries;  // by geomID
+  Vector3f toSun;                    // unit, towards the sun
+  float sunCosMax = 1.0f;            // cos of the sun's angular radius
+  Vector3f sunRadiance;              // irradiance / solid angle (0 for a point sun)
+  bool sunOn = false;
+  Vector3f groundNormal;             // unit
+  Vector3f groundU, groundV;         // unit, spanning the ground plane (checker axes)
+  Vector3f clipNormal;               // unit
+  float epsilon = 1e-4f;             // ray offset against self-intersection, metres
+};
+
+// Ray statistics of one tile, added to the frame's totals when the tile is done.
+struct Counters {
+  uint64_t primary = 0;
+  uint64_t total = 0;
+};
+
+struct Hit {
+  enum Kind { None, Surface, Ground, Light } kind = None;
+  float t = kInfinity;
+  Vector3f point;
+  Vector3f ng;  // geometric normal, outward (object) or up (ground) or emitting side (light)
+  Vector3f ns;  // shading normal, same side as ng
+  const Material* material = nullptr;
+  Vector3f albedo;
+  int light = -1;
+};
+
+bool clipped(const Frame& f, const Vector3f& p) {
+  return f.input->clip.enabled && (p - f.input->clip.point).dot(f.clipNormal) > 0.0f;
 }
 
-// Whether anything in the Embree scene blocks the light from `origin`.
-bool occluded(const Frame& f, const Vector3f& origin, RTCIntersectContext& context) {
+// Closest Embree hit along the ray in (tnear, tfar), skipping clipped hits. Returns false for
+// none; fills t, geomID, primID, u, v.
+bool intersectEmbree(const Frame& f, const Vector3f& origin, const Vector3f& direction, float tnear, float tfar,
+                     RTCIntersectContext& context, Counters& counters, float& t, unsigned& geomID,
+                     unsigned& primID, float& u, float& v) {
+  for (int skip = 0; skip <= kMaxClipSkips; ++skip) {
+    RTCRayHit rh{};
+    rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
+    rh.ray.dir_x = direction.x(), rh.ray.dir_y = direction.y(), rh.ray.dir_z = direction.z();
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(f.scene, &context, &rh);
+    ++counters.total;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (!clipped(f, origin + rh.ray.tfar * direction)) {
+      t = rh.ray.tfar;
+      geomID = rh.hit.geomID;
+      primID = rh.hit.primID;
+      u = rh.hit.u;
+      v = rh.hit.v;
+      return true;
+    }
+    tnear = rh.ray.tfar + f.epsilon;
+  }
+  return false;
+}
+
+// Whether anything in the Embree scene blocks the segment origin + t direction, t in (0, tfar).
+bool occluded(const Frame& f, const Vector3f& origin, const Vector3f& direction, float tfar,
+              RTCIntersectContext& context, Counters& counters) {
+  if (f.input->clip.enabled) {
+    float t, u, v;
+    unsigned g, p;
+    return intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, t, g, p, u, v);
+  }
   RTCRay ray{};
   ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
-  ray.dir_x = f.toLight.x(), ray.dir_y = f.toLight.y(), ray.dir_z = f.toLight.z();
-  ray.tnear = f.epsilon;
-  ray.tfar = kInfinity;
+  ray.dir_x = direction.x(), ray.dir_y = direction.y(), ray.dir_z = direction.z();
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
   ray.mask = 0xFFFFFFFFu;
   rtcOccluded1(f.scene, &context, &ray);
+  ++counters.total;
   return ray.tfar == -kInfinity;  // Embree marks a hit by setting tfar to -inf
 }
 
-// Lambert shading at `point` with unit normal `normal` (facing the viewer) and geometric
-// normal `geometricNormal` (facing the viewer, used to offset the shadow ray).
-Vector3f shade(const Frame& f, const Vector3f& point, const Vector3f& normal, const Vector3f& geometricNormal,
-               const Vector3f& albedo, RTCIntersectContext& context) {
-  Vector3f light = f.ambient;
-  const float cosine = normal.dot(f.toLight);
-  if (cosine > 0.0f && !occluded(f, point + f.epsilon * geometricNormal, context))
-    light += cosine * f.radiance;
-  return albedo.cwiseProduct(light);
-}
-
 Vector3f groundAlbedo(const Frame& f, const Vector3f& point) {
-  const Ground& g = *f.ground;
+  const Ground& g = f.input->ground;
   if (g.checkerSize <= 0.0f) return g.albedoA;
   const Vector3f offset = point - g.point;
   const double cells = std::floor(offset.dot(f.groundU) / g.checkerSize) + std::floor(offset.dot(f.groundV) / g.checkerSize);
-  return std::fmod(cells, 2.0) == 0.0 ? g.albedoA : g.albedoB;
+  return std::fmod(std::abs(cells), 2.0) == 0.0 ? g.albedoA : g.albedoB;
 }
 
-Vector3f trace(const Frame& f, const Vector3f& origin, const Vector3f& direction, RTCIntersectContext& context) {
-  RTCRayHit rh{};
-  rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
-  rh.ray.dir_x = direction.x(), rh.ray.dir_y = direction.y(), rh.ray.dir_z = direction.z();
-  rh.ray.tnear = 0.0f;
-  rh.ray.tfar = kInfinity;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(f.scene, &context, &rh);
-
-  float groundT = kInfinity;
-  if (f.ground->enabled) {
+// Closest hit among Embree geometry, the ground and the area lights.
+Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction, RTCIntersectContext& context,
+              Counters& counters) {
+  Hit hit;
+  float t, u, v;
+  unsigned geomID, primID;
+  if (intersectEmbree(f, origin, direction, 0.0f, kInfinity, context, counters, t, geomID, primID, u, v)) {
+    hit.kind = Hit::Surface;
+    hit.t = t;
+    hit.point = origin + t * direction;
+    const Geometry& g = f.geometries[geomID];
+    if (g.mesh) {
+      const TriangleMesh& mesh = *g.mesh->mesh;
+      const Eigen::Vector3i& tri = mesh.triangles[primID];
+      const Vector3f& p0 = mesh.positions[tri[0]];
+      hit.ng = (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0).normalized();  // CCW: outward
+      hit.ns = hit.ng;
+      if (!mesh.normals.empty()) {  // smooth shading: barycentric interpolation of vertex normals
+        const Vector3f n = (1.0f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
+        if (n.squaredNorm() > 0.0f) hit.ns = n.normalized();
+        if (hit.ns.dot(hit.ng) < 0.0f) hit.ng = -hit.ng;  // trust the level set's outward gradient
+      }
+      hit.material = &g.mesh->material;
+      hit.albedo = g.mesh->material.albedo;
+    } else {
+      const SphereSet& set = *g.spheres;
+      hit.ng = (hit.point - set.centres[primID]).normalized();
+      hit.ns = hit.ng;
+      hit.material = &set.material;
+      hit.albedo = set.colours.empty() ? set.material.albedo : set.colours[primID];
+    }
+    if (!hit.ng.allFinite()) hit.ng = hit.ns = -direction;
+  }
+  const Ground& ground = f.input->ground;
+  if (ground.enabled) {
     const float denominator = direction.dot(f.groundNormal);
     if (denominator != 0.0f) {
-      const float t = (f.ground->point - origin).dot(f.groundNormal) / denominator;
-      if (t > 0.0f) groundT = t;
-    }
-  }
-
-  if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.ray.tfar <= groundT) {
-    const SceneObject& object = (*f.objects)[rh.hit.geomID];
-    const TriangleMesh& mesh = *object.mesh;
-    const Vector3f point = origin + rh.ray.tfar * direction;
-    Vector3f geometric = Vector3f(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z).normalized();
-    if (geometric.dot(direction) > 0.0f) geometric = -geometric;
-    Vector3f normal = geometric;
-    if (!mesh.normals.empty()) {  // smooth shading: barycentric interpolation of vertex normals
-      const Eigen::Vector3i& tri = mesh.triangles[rh.hit.primID];
-      const float u = rh.hit.u, v = rh.hit.v;
-      const Vector3f interpolated =
-          (1.0f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
-      if (interpolated.squaredNorm() > 0.0f) {
-        normal = interpolated.normalized();
-        if (normal.dot(direction) > 0.0f) normal = -normal;
+      const float tg = (ground.point - origin).dot(f.groundNormal) / denominator;
+      if (tg > 0.0f && tg < hit.t) {
+        hit.kind = Hit::Ground;
+        hit.t = tg;
+        hit.point = origin + tg * direction;
+        hit.ng = hit.ns = f.groundNormal;
+        hit.material = nullptr;
+        hit.albedo = groundAlbedo(f, hit.point);
       }
     }
-    return shade(f, point, normal, geometric, object.material.albedo, context);
   }
-  if (groundT < kInfinity) {
-    const Vector3f point = origin + groundT * direction;
-    const Vector3f normal = direction.dot(f.groundNormal) < 0.0f ? f.groundNormal : Vector3f(-f.groundNormal);
-    return shade(f, point, normal, normal, groundAlbedo(f, point), context);
+  const std::vector<RectLight>& lights = f.input->rectLights;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const RectLight& l = lights[i];
+    const Vector3f n = l.edgeU.cross(l.edgeV);
+    const float denominator = direction.dot(n);
+    if (denominator == 0.0f) continue;
+    const float tl = (l.corner - origin).dot(n) / denominator;
+    if (!(tl > 0.0f && tl < hit.t)) continue;
+    const Vector3f q = origin + tl * direction - l.corner;
+    const float s = q.dot(l.edgeU) / l.edgeU.squaredNorm(), r = q.dot(l.edgeV) / l.edgeV.squaredNorm();
+    if (s < 0.0f || s > 1.0f || r < 0.0f || r > 1.0f) continue;
+    hit.kind = Hit::Light;
+    hit.t = tl;
+    hit.point = origin + tl * direction;
+    hit.ng = hit.ns = n.normalized();
+    hit.light = static_cast<int>(i);
   }
-  return skyColour(f, direction);
+  return hit;
+}
+
+// Direct light from the sun and the area lights at a non-specular vertex (one sample each).
+Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSampler& rng,
+                     RTCIntersectContext& context, Counters& counters) {
+  static const Material kGroundMaterial{};
+  const Material& material = hit.material ? *hit.material : kGroundMaterial;
+  Vector3f sum = Vector3f::Zero();
+  const auto origin = [&](const Vector3f& wi) {
+    return Vector3f(hit.point + (wi.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng);
+  };
+  // Sun: a uniformly sampled direction in its cone; irradiance * f cos (the cone's pdf cancels).
+  const float u1 = rng.next(), u2 = rng.next();
+  if (f.sunOn) {
+    const Vector3f wi = f.sunCosMax < 1.0f ? sampleCone(f.toSun, f.sunCosMax, u1, u2) : f.toSun;
+    const Vector3f fcos = evaluateDiffuseLobe(material, hit.albedo, wo, wi, hit.ns, hit.ng);
+    if (fcos.maxCoeff() > 0.0f && !occluded(f, origin(wi), wi, kInfinity, context, counters))
+      sum += fcos.cwiseProduct(f.input->sun.irradiance);
+  }
+  // Area lights: a uniform point on each; pdf 1 / area converted to solid angle.
+  for (const RectLight& l : f.input->rectLights) {
+    const float s = rng.next(), r = rng.next();
+    const Vector3f normal = l.edgeU.cross(l.edgeV);
+    const float area = normal.norm();
+    const Vector3f q = l.corner + s * l.edgeU + r * l.edgeV;
+    const Vector3f d = q - hit.point;
+    const float distance2 = d.squaredNorm();
+    if (!(distance2 > 0.0f) || area == 0.0f) continue;
+    const float distance = std::sqrt(distance2);
+    const Vector3f wi = d / distance;
+    const float cosLight = -wi.dot(normal) / area;
+    if (cosLight <= 0.0f) continue;
+    const Vector3f fcos = evaluateDiffuseLobe(material, hit.albedo, wo, wi, hit.ns, hit.ng);
+    if (fcos.maxCoeff() > 0.0f && !occluded(f, origin(wi), wi, distance * (1.0f - 1e-4f), context, counters))
+      sum += fcos.cwiseProduct(l.radiance) * (cosLight * area / distance2);
+  }
+  return sum;
+}
+
+// Radiance along one camera ray; `hitSomething` tells whether the camera ray met geometry.
+Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSampler& rng,
+                   RTCIntersectContext& context, Counters& counters, bool& hitSomething) {
+  static const Material kGroundMaterial{};
+  const RenderSettings& settings = *f.settings;
+  Vector3f radiance = Vector3f::Zero();
+  Vector3f throughput = Vector3f::Ones();
+  Vector3f absorption = Vector3f::Zero();  // of the medium the ray travels in (0: air)
+  bool specular = true;                    // the camera counts as a specular vertex
+  hitSomething = false;
+  for (int depth = 0;; ++depth) {
+    const Hit hit = intersect(f, origin, direction, context, counters);
+    if (depth == 0) hitSomething = hit.kind != Hit::None;
+    if (hit.kind != Hit::None && absorption.maxCoeff() > 0.0f)
+      throughput = throughput.cwiseProduct((-absorption * hit.t).array().exp().matrix());  // Beer-Lambert
+    if (hit.kind == Hit::None) {
+      if (depth == 0 && settings.transparentBackground) break;
+      radiance += throughput.cwiseProduct(environmentRadiance(f.input->environment, direction));
+      if (specular && f.sunOn && f.sunCosMax < 1.0f && direction.dot(f.toSun) >= f.sunCosMax)
+        radiance += throughput.cwiseProduct(f.sunRadiance);
+      break;
+    }
+    if (hit.kind == Hit::Light) {
+      if (specular && direction.dot(hit.ng) < 0.0f)
+        radiance += throughput.cwiseProduct(f.input->rectLights[size_t(hit.light)].radiance);
+      break;
+    }
+    if (depth >= settings.maxDepth) break;
+    const Material& material = hit.material ? *hit.material : kGroundMaterial;
+    const Vector3f wo = -direction;
+    if (hasDiffuseLobe(material.type))
+      radiance += throughput.cwiseProduct(directLight(f, hit, wo, rng, context, counters));
+    else
+      rng.next(), rng.next();  // keep the dimension count independent of the material
+    for (size_t i = 0; i < f.input->rectLights.size() && !hasDiffuseLobe(material.type); ++i) rng.next(), rng.next();
+
+    ScatterSample s;
+    const float u1 = rng.next(), u2 = rng.next(), u3 = rng.next();
+    if (!sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, u1, u2, u3, s)) break;
+    throughput = throughput.cwiseProduct(s.weight);
+    specular = s.specular;
+    if (s.transmitted && hit.material) {  // crossing the surface: entering if wo was outside
+      const bool entering = wo.dot(hit.ng) > 0.0f;
+      absorption = entering ? material.absorption : Vector3f::Zero();
+    }
+    origin = hit.point + (s.direction.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng;
+    direction = s.direction;
+
+    const float survival = throughput.maxCoeff();  // Russian roulette once the throughput drops below 1
+    const float u = rng.next();
+    if (depth >= 2 && survival < 1.0f) {
+      if (u >= survival) break;
+      throughput /= survival;
+    }
+  }
+  return radiance;
 }
 
 }  // namespace
 
-Image renderFrame(const std::vector<SceneObject>& objects, const Camera& camera, const DirectionalLight& light,
-                  const Ground& ground, const RenderSettings& settings) {
+Image renderFrame(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
   if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0)
     throw std::invalid_argument("renderFrame: width, height and samplesPerPixel must be positive");
-  if (!(settings.ambient >= 0.0f)) throw std::invalid_argument("renderFrame: ambient must be >= 0");
-  if (!(camera.verticalFovDegrees > 0.0f && camera.verticalFovDegrees < 180.0f))
-    throw std::invalid_argument("renderFrame: verticalFovDegrees must be in (0, 180)");
-  if (light.direction.squaredNorm() == 0.0f) throw std::invalid_argument("renderFrame: zero light direction");
-  if (ground.enabled && ground.normal.squaredNorm() == 0.0f)
+  if (settings.maxDepth < 1) throw std::invalid_argument("renderFrame: maxDepth must be >= 1");
+  if (scene.sun.direction.squaredNorm() == 0.0f) throw std::invalid_argument("renderFrame: zero sun direction");
+  if (!(scene.sun.angularDiameterDegrees >= 0.0f && scene.sun.angularDiameterDegrees < 90.0f))
+    throw std::invalid_argument("renderFrame: sun angular diameter must be in [0, 90) degrees");
+  if (scene.ground.enabled && scene.ground.normal.squaredNorm() == 0.0f)
     throw std::invalid_argument("renderFrame: zero ground normal");
-
-  // Camera basis (look-at); up must not be parallel to the viewing direction.
-  const Vector3f forward = (camera.lookAt - camera.position).normalized();
-  const Vector3f right = forward.cross(camera.up).normalized();
-  if (!right.allFinite() || camera.up.squaredNorm() == 0.0f)
-    throw std::invalid_argument("renderFrame: camera position, lookAt and up are degenerate");
-  const Vector3f trueUp = right.cross(forward);
-  const float tanHalfFov =
-      std::tan(0.5f * camera.verticalFovDegrees * std::numbers::pi_v<float> / 180.0f);
-  const float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
+  if (scene.clip.enabled && scene.clip.normal.squaredNorm() == 0.0f)
+    throw std::invalid_argument("renderFrame: zero clip plane normal");
+  if (scene.environment.type == EnvironmentType::Image && !scene.environment.image)
+    throw std::invalid_argument("renderFrame: image environment without an image");
+  const CameraRays camera(scene.camera, settings.width, settings.height);
 
   EmbreeErrors errors;
   DevicePtr device = newDevice();
   rtcSetDeviceErrorFunction(device.get(), onEmbreeError, &errors);
-  ScenePtr scene(rtcNewScene(device.get()), &rtcReleaseScene);
+  ScenePtr embreeScene(rtcNewScene(device.get()), &rtcReleaseScene);
+  Frame frame;
+  frame.input = &scene;
+  frame.settings = &settings;
   // Scene scale for the self-intersection offset: largest coordinate magnitude in view.
-  float scale = std::max(camera.position.cwiseAbs().maxCoeff(), ground.enabled ? ground.point.cwiseAbs().maxCoeff() : 0.0f);
-  for (size_t i = 0; i < objects.size(); ++i) {
-    if (!objects[i].mesh) throw std::invalid_argument("renderFrame: scene object " + std::to_string(i) + " has no mesh");
-    if (objects[i].mesh->triangles.empty()) continue;  // nothing to hit
-    addMesh(device.get(), scene.get(), *objects[i].mesh, i);
-    for (const Vector3f& p : objects[i].mesh->positions) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  float scale = std::max(scene.camera.position.cwiseAbs().maxCoeff(),
+                         scene.ground.enabled ? scene.ground.point.cwiseAbs().maxCoeff() : 0.0f);
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    const std::string name = "mesh " + std::to_string(i);
+    if (!scene.meshes[i].mesh) throw std::invalid_argument("renderFrame: " + name + " has no mesh");
+    checkMaterial(scene.meshes[i].material, name);
+    if (scene.meshes[i].mesh->triangles.empty()) continue;  // nothing to hit
+    addMesh(device.get(), embreeScene.get(), *scene.meshes[i].mesh, unsigned(frame.geometries.size()), name);
+    frame.geometries.push_back({&scene.meshes[i], nullptr});
+    for (const Vector3f& p : scene.meshes[i].mesh->positions) scale = std::max(scale, p.cwiseAbs().maxCoeff());
   }
-  rtcCommitScene(scene.get());
+  for (size_t i = 0; i < scene.spheres.size(); ++i) {
+    const std::string name = "sphere set " + std::to_string(i);
+    checkMaterial(scene.spheres[i].material, name);
+    if (scene.spheres[i].centres.empty()) continue;
+    addSpheres(device.get(), embreeScene.get(), scene.spheres[i], unsigned(frame.geometries.size()), name);
+    frame.geometries.push_back({nullptr, &scene.spheres[i]});
+    for (const Vector3f& p : scene.spheres[i].centres) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  }
+  rtcCommitScene(embreeScene.get());
   throwIfError(device.get(), errors, "scene build");
 
-  Frame frame;
-  frame.scene = scene.get();
-  frame.objects = &objects;
-  frame.ground = &ground;
-  frame.settings = &settings;
-  frame.toLight = -light.direction.normalized();
-  frame.radiance = light.radiance;
-  frame.skyUp = camera.up.normalized();
-  frame.ambient = settings.ambient * 0.5f * (settings.skyZenith + settings.skyHorizon);
+  frame.scene = embreeScene.get();
+  frame.toSun = -scene.sun.direction.normalized();
+  const float sunRadius = 0.5f * scene.sun.angularDiameterDegrees * std::numbers::pi_v<float> / 180.0f;
+  frame.sunCosMax = std::cos(sunRadius);
+  const float sunSolidAngle = 2.0f * std::numbers::pi_v<float> * (1.0f - frame.sunCosMax);
+  frame.sunRadiance = sunSolidAngle > 0.0f ? Vector3f(scene.sun.irradiance / sunSolidAngle) : Vector3f::Zero();
+  frame.sunOn = scene.sun.irradiance.maxCoeff() > 0.0f;
   frame.epsilon = 1e-4f * std::max(1.0f, scale);
-  if (ground.enabled) {
-    frame.groundNormal = ground.normal.normalized();
+  if (scene.ground.enabled) {
+    frame.groundNormal = scene.ground.normal.normalized();
     const Vector3f axis = std::abs(frame.groundNormal.x()) < 0.9f ? Vector3f::UnitX() : Vector3f::UnitY();
     frame.groundU = (axis - frame.groundNormal.dot(axis) * frame.groundNormal).normalized();
     frame.groundV = frame.groundNormal.cross(frame.groundU);
   }
+  if (scene.clip.enabled) frame.clipNormal = scene.clip.normal.normalized();
 
   Image image(settings.width, settings.height);
   const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
   const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
   const int n = settings.samplesPerPixel;
+  std::atomic<uint64_t> primaryRays{0}, totalRays{0};
   tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& tiles) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
+    Counters counters;
     for (int tile = tiles.begin(); tile != tiles.end(); ++tile) {
       const int x0 = (tile % tilesX) * kTileSize, y0 = (tile / tilesX) * kTileSize;
       for (int y = y0; y < std::min(y0 + kTileSize, settings.height); ++y)
         for (int x = x0; x < std::min(x0 + kTileSize, settings.width); ++x) {
+          const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(settings.width) + static_cast<uint32_t>(x);
           Vector3f sum = Vector3f::Zero();
+          int covered = 0;
           for (int s = 0; s < n; ++s) {
-            const Vector2f offset = samplePosition(s, n);
-            // Image plane at distance 1: x in [-aspect, aspect] * tan, y in [-1, 1] * tan, row 0 on top.
-            const float px = (2.0f * (static_cast<float>(x) + offset.x()) / static_cast<float>(settings.width) - 1.0f) * aspect * tanHalfFov;
-            const float py = (1.0f - 2.0f * (static_cast<float>(y) + offset.y()) / static_cast<float>(settings.height)) * tanHalfFov;
-            const Vector3f direction = (forward + px * right + py * trueUp).normalized();
-            sum += trace(frame, camera.position, direction, context);
+            PixelSampler rng(pixel, static_cast<uint32_t>(s), static_cast<uint32_t>(settings.seed));
+            const Vector2f offset = pixelSamplePosition(uint32_t(s), uint32_t(n), pixel, static_cast<uint32_t>(settings.seed));
+            const float lens1 = rng.next(), lens2 = rng.next();
+            Vector3f origin, direction;
+            camera.generate(static_cast<float>(x) + offset.x(), static_cast<float>(y) + offset.y(), lens1, lens2,
+                            origin, direction);
+            ++counters.primary;
+            bool hitSomething = false;
+            sum += tracePath(frame, origin, direction, rng, context, counters, hitSomething);
+            covered += hitSomething ? 1 : 0;
           }
-          const Vector3f colour = sum / static_cast<float>(n);
-          image.at(x, y) = Eigen::Vector4f(colour.x(), colour.y(), colour.z(), 1.0f);
+          Eigen::Vector4f pixelValue(0, 0, 0, 1);
+          if (settings.transparentBackground) {
+            pixelValue[3] = static_cast<float>(covered) / static_cast<float>(n);
+            if (covered > 0) pixelValue.head<3>() = sum / static_cast<float>(covered);  // straight alpha
+          } else {
+            pixelValue.head<3>() = sum / static_cast<float>(n);
+          }
+          image.at(x, y) = pixelValue;
         }
     }
+    primaryRays += counters.primary;
+    totalRays += counters.total;
   });
   throwIfError(device.get(), errors, "rendering");
+  if (stats) {
+    stats->primaryRays = primaryRays;
+    stats->totalRays = totalRays;
+    stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  }
   return image;
 }
 

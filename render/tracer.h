@@ -1,63 +1,96 @@
-// Headless Embree 3 ray tracer for the skeleton pipeline: a pinhole camera, one directional
-// light with hard shadows, Lambert shading of triangle meshes over an infinite ground plane,
-// and a sky colour for rays that leave the scene. Tiles are rendered in parallel with TBB; the
-// image does not depend on the thread count (each pixel's sample positions are fixed).
+// Headless Embree 3 path tracer.
 //
-// Units are metres in world space; the up direction is the camera's `up`, the ground plane is
-// the plane through `groundPoint` with normal `groundNormal`.
+// Renders triangle meshes (the level set surfaces) and sphere sets (particles shown as spheres)
+// with materials (materials.h) over an analytic infinite checker ground, lit by a sun, area
+// lights and the environment (lights.h), seen through a perspective camera (camera.h).
+//
+// The integrator is a unidirectional path tracer with next-event estimation for the sun and the
+// area lights at every non-specular vertex, Russian roulette once a path's throughput falls
+// below 1 (from the fourth vertex on), and a hard maximum number of scattering events. Light
+// sources are added on hit only after a specular bounce or at the camera, so no path is counted
+// twice. Beer-Lambert absorption attenuates paths inside dielectric and translucent objects.
+//
+// Every random number is a pure function of (pixel, sample, dimension, seed) (sampling.h), so
+// the image depends only on the scene, the settings and the seed: not on the thread count or the
+// order in which the 16x16 tiles are rendered.
+//
+// Units are metres in world space. The ground is the plane through `point` with normal `normal`
+// (analytic, truly infinite, receives shadows but casts none). A clip plane removes the meshes and
+// spheres (not the ground) on the side its normal points to, for cross-section views.
 #pragma once
 
+#include "render/camera.h"
 #include "render/image.h"
+#include "render/lights.h"
+#include "render/materials.h"
 #include "render/mesh.h"
 
 #include <Eigen/Core>
 
+#include <cstdint>
+#include <string>
 #include <vector>
 
 namespace kurage::render {
-
-struct Camera {
-  Eigen::Vector3f position{0, -10, 5};
-  Eigen::Vector3f lookAt{0, 0, 0};
-  Eigen::Vector3f up{0, 0, 1};
-  float verticalFovDegrees = 45.0f;
-};
-
-struct DirectionalLight {
-  Eigen::Vector3f direction{-0.4f, -0.3f, -1.0f};  // direction the light travels (need not be unit)
-  Eigen::Vector3f radiance{1.1f, 1.05f, 0.95f};      // irradiance on a surface facing the light
-};
-
-struct Material {
-  Eigen::Vector3f albedo{0.8f, 0.8f, 0.8f};  // Lambert reflectance in [0,1]
-};
 
 struct Ground {
   bool enabled = true;
   Eigen::Vector3f point{0, 0, 0};
   Eigen::Vector3f normal{0, 0, 1};
-  Eigen::Vector3f albedoA{0.75f, 0.75f, 0.72f};  // checker colours
-  Eigen::Vector3f albedoB{0.55f, 0.55f, 0.52f};
+  Eigen::Vector3f albedoA{0.65f, 0.65f, 0.62f};  // diffuse checker colours
+  Eigen::Vector3f albedoB{0.3f, 0.3f, 0.28f};
   float checkerSize = 1.0f;  // metres; <= 0 gives a plain albedoA ground
+};
+
+struct ClipPlane {
+  bool enabled = false;
+  Eigen::Vector3f point{0, 0, 0};
+  Eigen::Vector3f normal{0, 1, 0};  // geometry where (x - point) . normal > 0 is removed
+};
+
+struct SceneObject {
+  const TriangleMesh* mesh = nullptr;  // not owned; must outlive renderFrame()
+  Material material;
+};
+
+// Spheres of one radius; each may have its own colour (replacing material.albedo).
+struct SphereSet {
+  std::vector<Eigen::Vector3f> centres;  // metres
+  std::vector<Eigen::Vector3f> colours;  // empty, or one per centre
+  float radius = 0.5f;                   // metres
+  Material material;
+};
+
+struct RenderScene {
+  std::vector<SceneObject> meshes;
+  std::vector<SphereSet> spheres;
+  Camera camera;
+  SunLight sun;
+  std::vector<RectLight> rectLights;
+  Environment environment;
+  Ground ground;
+  ClipPlane clip;
 };
 
 struct RenderSettings {
   int width = 640;
   int height = 360;
-  int samplesPerPixel = 4;  // stratified, fixed positions per pixel
-  Eigen::Vector3f skyZenith{0.35f, 0.55f, 0.9f};
-  Eigen::Vector3f skyHorizon{0.85f, 0.9f, 0.95f};
-  float ambient = 0.35f;  // fraction of the sky colour added as uniform ambient light
+  int samplesPerPixel = 16;
+  int maxDepth = 8;   // most scattering events on a path (1 = direct light only)
+  int seed = 0;  // >= 0; another seed gives another, equally valid, noise pattern
+  bool transparentBackground = false;  // alpha = fraction of camera rays that hit something;
+                                       // the environment is then not seen directly
 };
 
-struct SceneObject {
-  const TriangleMesh* mesh = nullptr;  // not owned; must outlive render()
-  Material material;
+struct RenderStats {
+  uint64_t primaryRays = 0;  // camera rays
+  uint64_t totalRays = 0;    // every Embree query: camera, bounce and shadow rays
+  double seconds = 0.0;      // wall time of renderFrame, scene build included
 };
 
-// Renders one frame. Throws std::runtime_error if Embree cannot be initialised.
-Image renderFrame(const std::vector<SceneObject>& objects, const Camera& camera,
-                  const DirectionalLight& light, const Ground& ground, const RenderSettings& settings);
+// Renders one frame (linear radiance, alpha). Throws std::invalid_argument for bad settings or
+// scene data and std::runtime_error if Embree fails.
+Image renderFrame(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats = nullptr);
 
 // Version string of the Embree library in use (for run.json).
 std::string embreeVersion();

@@ -1,0 +1,147 @@
+// kurage still SCENE --time T -o FILE.png: one path-traced frame at any simulated time and any
+// resolution, for papers. The particles come from simulating up to T, or from an existing cache
+// (--from OUT: the frame of OUT/particles nearest to T). Surfaces are built as the surface stage
+// does; --spheres shows the particles themselves, coloured by kind, speed or rest-density factor.
+#include "pipeline/cli.h"
+#include "pipeline/files.h"
+#include "pipeline/particle_cache.h"
+#include "pipeline/render_scene.h"
+#include "pipeline/scene.h"
+#include "render/surfacing.h"
+#include "sim/simulation.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+namespace kurage::pipeline {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kHelp =
+    "usage: kurage still SCENE --time T -o FILE.png [options]\n\n"
+    "Renders one frame at simulated time T (simulating up to it, or from a cache with --from).\n\n"
+    "options:\n"
+    "  -t, --time T         simulated time in seconds (required)\n"
+    "  -o, --output FILE    PNG to write (written atomically; its folder must exist)\n"
+    "  --from OUT           read OUT/particles/NNNN.vdb (the frame nearest to T) instead of simulating\n"
+    "  --width W, --height H, --spp N, --max-depth D, --seed S\n"
+    "                       override the scene's render settings\n"
+    "  --spheres BY         draw particles as spheres coloured by kind, speed or rest_density_factor\n"
+    "  --clip X,Y,Z,NX,NY,NZ  remove everything (but the ground) on the side of the plane through\n"
+    "                       (X,Y,Z) that the normal (NX,NY,NZ) points to: a cross-section\n"
+    "  --16bit              16-bit PNG\n"
+    "  --transparent        transparent background (PNG alpha)\n"
+    "  --threads N          worker threads (default: all cores)\n"
+    "  -h, --help           this help\n";
+
+ParticleFrame simulateTo(const Scene& scene, double time) {
+  sim::Simulation simulation(scene.sim);
+  simulation.advanceTo(time);
+  const sim::ParticleSet& p = simulation.particles();
+  ParticleFrame f;
+  f.time = simulation.time();
+  f.px = p.x; f.py = p.y; f.pz = p.z;
+  f.vx = p.vx; f.vy = p.vy; f.vz = p.vz;
+  f.id = p.id;
+  f.kind = p.kind;
+  f.restDensityFactor.resize(p.size());
+  for (size_t i = 0; i < p.size(); ++i) f.restDensityFactor[i] = p.restDensity[i] / scene.sim.fluid.restDensity;
+  return f;
+}
+
+}  // namespace
+
+int commandStill(std::vector<std::string> rawArgs) {
+  ArgParser args("still", std::move(rawArgs));
+  if (args.flag({"-h", "--help"})) {
+    std::fputs(kHelp, stdout);
+    return 0;
+  }
+  const std::optional<double> time = args.doubleOption({"-t", "--time"});
+  const std::optional<std::string> output = args.option({"-o", "--output"});
+  const std::optional<std::string> from = args.option({"--from"});
+  const std::optional<int> width = args.intOption({"--width"}, 1, 16384);
+  const std::optional<int> height = args.intOption({"--height"}, 1, 16384);
+  const std::optional<int> spp = args.intOption({"--spp"}, 1, 65536);
+  const std::optional<int> depth = args.intOption({"--max-depth"}, 1, 1024);
+  const std::optional<int> seed = args.intOption({"--seed"}, 0, 2147483647);
+  const std::optional<int> threadCount = args.intOption({"--threads"}, 1, 1024);
+  const std::optional<std::string> spheres = args.option({"--spheres"});
+  const std::optional<std::string> clip = args.option({"--clip"});
+  const bool sixteen = args.flag({"--16bit"});
+  const bool transparent = args.flag({"--transparent"});
+  const std::vector<std::string> positional = args.positionals();
+  if (positional.size() != 1) args.fail("expected one SCENE");
+  if (!time) args.fail("missing --time T");
+  if (!(*time >= 0.0) || !std::isfinite(*time)) args.fail("--time must be >= 0, got " + std::to_string(*time));
+  if (!output) args.fail("missing -o FILE.png");
+  const fs::path outFile = *output;
+  if (outFile.extension() != ".png") args.fail("-o: the output must be a .png file, got " + *output);
+  const fs::path outFolder = outFile.has_parent_path() ? outFile.parent_path() : fs::path(".");
+  if (!fs::is_directory(outFolder)) args.fail("-o: folder " + outFolder.string() + " does not exist");
+
+  Scene scene = loadScene(positional[0]);
+  render::RenderSettings& settings = scene.render.settings;
+  if (width) settings.width = *width;
+  if (height) settings.height = *height;
+  if (spp) settings.samplesPerPixel = *spp;
+  if (depth) settings.maxDepth = *depth;
+  if (seed) settings.seed = *seed;
+  if (transparent) settings.transparentBackground = true;
+  if (sixteen) scene.render.bitDepth = 16;
+  if (spheres) {
+    scene.render.particles.spheres = true;
+    if (*spheres == "kind") scene.render.particles.colourBy = ParticleColouring::Kind;
+    else if (*spheres == "speed") scene.render.particles.colourBy = ParticleColouring::Speed;
+    else if (*spheres == "rest_density_factor") scene.render.particles.colourBy = ParticleColouring::RestDensityFactor;
+    else args.fail("--spheres: expected kind, speed or rest_density_factor, got " + *spheres);
+  }
+  if (clip) {
+    float c[6];
+    char tail = 0;
+    if (std::sscanf(clip->c_str(), "%f,%f,%f,%f,%f,%f%c", &c[0], &c[1], &c[2], &c[3], &c[4], &c[5], &tail) != 6)
+      args.fail("--clip: expected X,Y,Z,NX,NY,NZ, got " + *clip);
+    scene.render.clip = {true, {c[0], c[1], c[2]}, {c[3], c[4], c[5]}};
+    if (scene.render.clip.normal.norm() <= 0.0f) args.fail("--clip: the normal must not be zero");
+  }
+  fs::path cacheFile;
+  int cacheFrame = -1;
+  if (from) {
+    cacheFrame = int(std::lround(*time * scene.output.fps));
+    cacheFile = frameFile(fs::path(*from) / "particles", cacheFrame, "vdb");
+    if (!fs::exists(cacheFile))
+      throw std::runtime_error(cacheFile.string() + ": missing (the frame nearest to t = " + std::to_string(*time) +
+                               " s); run `kurage sim` first or leave out --from");
+  }
+
+  ThreadLimit threads(threadCount.value_or(0));
+  const auto start = std::chrono::steady_clock::now();
+  const ParticleFrame frame = from ? readParticleFrame(cacheFile) : simulateTo(scene, *time);
+  const double frameTime = from ? scene.output.frameTime(cacheFrame) : *time;
+  render::RenderStats stats;
+  render::Image image;
+  if (scene.render.particles.spheres) {
+    render::RenderScene view = makeRenderScene(scene, frameTime);
+    view.spheres.push_back(particleSpheres(scene, frame));
+    image = render::renderFrame(view, settings, &stats);
+  } else {
+    std::vector<Eigen::Vector3f> fluid;
+    for (size_t i = 0; i < frame.size(); ++i)
+      if (frame.kind[i] == 0) fluid.emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
+    std::map<std::string, render::LevelSet> surfaces;
+    surfaces.emplace("fluid", render::buildMetaballLevelSet(fluid, scene.surface.fluid));
+    image = renderSurfaces(scene, surfaces, frameTime, &stats);
+  }
+  render::writePng(image, outFile, settings.transparentBackground, scene.render.bitDepth);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("still: %s (%dx%d, %d spp, t = %g s%s, %.1f s)\n", outFile.string().c_str(), settings.width,
+              settings.height, settings.samplesPerPixel, frameTime,
+              from ? (", frame " + std::to_string(cacheFrame) + " of " + *from).c_str() : "", seconds);
+  return 0;
+}
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,80 @@
+#include "pipeline/render_scene.h"
+
+#include "render/image.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
+
+namespace kurage::pipeline {
+
+render::RenderScene makeRenderScene(const Scene& scene, double time) {
+  const RenderParams& p = scene.render;
+  render::RenderScene out;
+  out.camera = render::cameraAt(p.camera, p.cameraKeys, time);
+  out.sun = p.sun;
+  out.rectLights = p.areaLights;
+  out.ground = p.ground;
+  out.clip = p.clip;
+  out.environment.type = p.environment.type;
+  out.environment.zenith = p.environment.zenith;
+  out.environment.horizon = p.environment.horizon;
+  out.environment.up = Eigen::Vector3f::UnitZ();
+  out.environment.intensity = p.environment.intensity;
+  out.environment.rotationDegrees = p.environment.rotation;
+  if (p.environment.type == render::EnvironmentType::Image)
+    out.environment.image = std::make_shared<const render::Image>(render::readPng(p.environment.image));
+  return out;
+}
+
+Eigen::Vector3f colourRamp(float t) {
+  // Five stops close to matplotlib's viridis.
+  static const std::array<Eigen::Vector3f, 5> stops{Eigen::Vector3f(0.267f, 0.005f, 0.329f),
+                                                    Eigen::Vector3f(0.229f, 0.322f, 0.546f),
+                                                    Eigen::Vector3f(0.128f, 0.567f, 0.551f),
+                                                    Eigen::Vector3f(0.369f, 0.789f, 0.383f),
+                                                    Eigen::Vector3f(0.993f, 0.906f, 0.144f)};
+  if (!(t > 0.0f)) return stops.front();
+  if (t >= 1.0f) return stops.back();
+  const float x = t * float(stops.size() - 1);
+  const size_t i = std::min(size_t(x), stops.size() - 2);
+  const float s = x - float(i);
+  return (1.0f - s) * stops[i] + s * stops[i + 1];
+}
+
+render::SphereSet particleSpheres(const Scene& scene, const ParticleFrame& frame) {
+  const ParticleDisplayParams& d = scene.render.particles;
+  render::SphereSet set;
+  set.radius = d.radius > 0.0f ? d.radius : 0.4f * scene.sim.fluid.spacing;
+  set.material.type = render::MaterialType::Diffuse;
+  const size_t n = frame.size();
+  set.centres.reserve(n);
+  set.colours.reserve(n);
+  std::vector<float> values(n, 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    set.centres.emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
+    if (d.colourBy == ParticleColouring::Speed)
+      values[i] = Eigen::Vector3f(frame.vx[i], frame.vy[i], frame.vz[i]).norm();
+    else if (d.colourBy == ParticleColouring::RestDensityFactor)
+      values[i] = frame.restDensityFactor.size() == n ? frame.restDensityFactor[i] : 1.0f;
+  }
+  float lo = d.rangeMin, hi = d.rangeMax;
+  if (!(hi > lo) && n > 0) {
+    lo = *std::min_element(values.begin(), values.end());
+    hi = *std::max_element(values.begin(), values.end());
+  }
+  static const std::array<Eigen::Vector3f, 6> kindColours{
+      Eigen::Vector3f(0.15f, 0.4f, 0.85f), Eigen::Vector3f(0.9f, 0.35f, 0.2f), Eigen::Vector3f(0.3f, 0.75f, 0.3f),
+      Eigen::Vector3f(0.9f, 0.75f, 0.15f), Eigen::Vector3f(0.65f, 0.3f, 0.8f), Eigen::Vector3f(0.85f, 0.85f, 0.85f)};
+  for (size_t i = 0; i < n; ++i) {
+    if (d.colourBy == ParticleColouring::Kind)
+      set.colours.push_back(kindColours[size_t(std::max(0, frame.kind[i])) % kindColours.size()]);
+    else
+      set.colours.push_back(colourRamp(hi > lo ? (values[i] - lo) / (hi - lo) : 0.5f));
+  }
+  return set;
+}
+
+}  // namespace kurage::pipeline

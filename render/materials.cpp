@@ -1,0 +1,143 @@
+// Material scattering; see materials.h.
+//
+// Refraction carries weight 1 and omits pbrt's 1/eta^2 radiance scaling: the factor for
+// entering a medium cancels the one for leaving it, and every path that reaches a light from a
+// camera in air crosses each closed surface an even number of times.
+#include "render/materials.h"
+
+#include "render/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace kurage::render {
+
+using Eigen::Vector3f;
+
+namespace {
+
+constexpr float kInvPi = 1.0f / std::numbers::pi_v<float>;
+
+// The shading normal and the geometric normal, both turned to the side of wo; the shading
+// normal is replaced by the geometric one when it faces away from wo.
+struct Frame {
+  Vector3f n, g;
+  float cosO;
+  bool outside;  // wo is on the side ng points to (the air, for a dielectric)
+};
+
+Frame facingFrame(const Vector3f& wo, const Vector3f& ns, const Vector3f& ng) {
+  Frame f;
+  f.outside = wo.dot(ng) >= 0.0f;
+  f.g = f.outside ? ng : Vector3f(-ng);
+  f.n = f.outside ? ns : Vector3f(-ns);
+  f.cosO = wo.dot(f.n);
+  if (!(f.cosO > 1e-6f)) {
+    f.n = f.g;
+    f.cosO = std::max(wo.dot(f.g), 1e-6f);
+  }
+  return f;
+}
+
+Vector3f reflect(const Vector3f& wo, const Vector3f& n) { return 2.0f * wo.dot(n) * n - wo; }
+
+// Smooth Fresnel interface: reflect with probability F, else refract (dielectric) or scatter
+// diffusely into the other side (translucent).
+bool sampleInterface(const Material& m, const Vector3f& albedo, const Vector3f& wo, const Frame& f, float u1,
+                     float u2, float u3, ScatterSample& s) {
+  const float etaI = f.outside ? 1.0f : m.ior;
+  const float etaT = f.outside ? m.ior : 1.0f;
+  const float fresnel = fresnelDielectric(f.cosO, etaI, etaT);
+  if (u1 < fresnel) {
+    s.direction = reflect(wo, f.n);
+    if (s.direction.dot(f.g) <= 0.0f) s.direction = reflect(wo, f.g);
+    s.weight = Vector3f::Ones();
+    s.specular = true;
+    s.transmitted = false;
+    return true;
+  }
+  s.transmitted = true;
+  if (m.type == MaterialType::Translucent) {
+    s.direction = sampleCosineHemisphere(-f.n, u2, u3);
+    s.weight = albedo;
+    s.specular = false;
+    return s.direction.dot(f.g) < 0.0f;
+  }
+  const auto refract = [&](const Vector3f& n, float cosI, Vector3f& out) {
+    const float eta = etaI / etaT;
+    const float sin2T = eta * eta * std::max(0.0f, 1.0f - cosI * cosI);
+    if (sin2T >= 1.0f) return false;
+    out = (-eta * wo + (eta * cosI - std::sqrt(1.0f - sin2T)) * n).normalized();
+    return true;
+  };
+  Vector3f wi;
+  if (!refract(f.n, f.cosO, wi) || wi.dot(f.g) >= 0.0f) {
+    if (!refract(f.g, std::max(wo.dot(f.g), 1e-6f), wi)) {  // TIR only by the shading normal: reflect
+      s.direction = reflect(wo, f.g);
+      s.weight = Vector3f::Ones();
+      s.specular = true;
+      s.transmitted = false;
+      return true;
+    }
+  }
+  s.direction = wi;
+  s.weight = Vector3f::Ones();
+  s.specular = true;
+  return true;
+}
+
+}  // namespace
+
+float fresnelDielectric(float cosI, float etaI, float etaT) {
+  cosI = std::clamp(cosI, 0.0f, 1.0f);
+  const float sinT = etaI / etaT * std::sqrt(std::max(0.0f, 1.0f - cosI * cosI));
+  if (sinT >= 1.0f) return 1.0f;
+  const float cosT = std::sqrt(std::max(0.0f, 1.0f - sinT * sinT));
+  const float parallel = (etaT * cosI - etaI * cosT) / (etaT * cosI + etaI * cosT);
+  const float perpendicular = (etaI * cosI - etaT * cosT) / (etaI * cosI + etaT * cosT);
+  return 0.5f * (parallel * parallel + perpendicular * perpendicular);
+}
+
+Vector3f evaluateDiffuseLobe(const Material& m, const Vector3f& albedo, const Vector3f& wo, const Vector3f& wi,
+                             const Vector3f& ns, const Vector3f& ng) {
+  const Frame f = facingFrame(wo, ns, ng);
+  if (m.type == MaterialType::Diffuse) {
+    if (wi.dot(f.g) <= 0.0f) return Vector3f::Zero();
+    return albedo * (kInvPi * std::max(0.0f, wi.dot(f.n)));
+  }
+  if (m.type == MaterialType::Translucent) {
+    if (wi.dot(f.g) >= 0.0f) return Vector3f::Zero();
+    const float etaI = f.outside ? 1.0f : m.ior;
+    const float etaT = f.outside ? m.ior : 1.0f;
+    const float transmitted = 1.0f - fresnelDielectric(f.cosO, etaI, etaT);
+    return albedo * (transmitted * kInvPi * std::max(0.0f, -wi.dot(f.n)));
+  }
+  return Vector3f::Zero();
+}
+
+bool sampleMaterial(const Material& m, const Vector3f& albedo, const Vector3f& wo, const Vector3f& ns,
+                    const Vector3f& ng, float u1, float u2, float u3, ScatterSample& s) {
+  const Frame f = facingFrame(wo, ns, ng);
+  switch (m.type) {
+    case MaterialType::Diffuse:
+      s.direction = sampleCosineHemisphere(f.n, u1, u2);
+      s.weight = albedo;
+      s.specular = false;
+      s.transmitted = false;
+      return s.direction.dot(f.g) > 0.0f;
+    case MaterialType::Mirror:
+      s.direction = reflect(wo, f.n);
+      if (s.direction.dot(f.g) <= 0.0f) s.direction = reflect(wo, f.g);
+      s.weight = albedo;
+      s.specular = true;
+      s.transmitted = false;
+      return true;
+    case MaterialType::Dielectric:
+    case MaterialType::Translucent:
+      return sampleInterface(m, albedo, wo, f, u1, u2, u3, s);
+  }
+  return false;
+}
+
+}  // namespace kurage::render
