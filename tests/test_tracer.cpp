@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <memory>
 #include <numbers>
 
 namespace kr = kurage::render;
@@ -394,4 +395,23 @@ TEST(Camera, DepthOfFieldBlursOnlyOutOfFocus) {
   const double blurred = contrast(kr::renderFrame(scene, settings));
   EXPECT_NEAR(focused, pinhole, 0.02);
   EXPECT_LT(blurred, 0.6 * pinhole);
+}
+
+TEST(Tracer, EnvironmentImageIsEquirectangularWithZUp) {
+  // An 8 x 4 latitude-longitude image: the top half (elevation > 0) red, the bottom half blue,
+  // and the column centred on azimuth 0 (+x) of the upper half green.
+  auto sky = std::make_shared<kr::Image>(8, 4, Eigen::Vector4f(0, 0, 1, 1));
+  for (int x = 0; x < 8; ++x)
+    for (int y = 0; y < 2; ++y) sky->at(x, y) = Eigen::Vector4f(1, 0, 0, 1);
+  sky->at(4, 1) = Eigen::Vector4f(0, 1, 0, 1);  // u in [0.5, 0.625): azimuth [0, 45) degrees
+  kr::Environment e;
+  e.type = kr::EnvironmentType::Image;
+  e.image = sky;
+  e.intensity = 2.0f;
+  EXPECT_EQ(kr::environmentRadiance(e, {0, 0, 1}), Vector3f(2, 0, 0));
+  EXPECT_EQ(kr::environmentRadiance(e, {0, 0, -1}), Vector3f(0, 0, 2));
+  EXPECT_EQ(kr::environmentRadiance(e, Vector3f(1, 0.2f, 0.3f).normalized()), Vector3f(0, 2, 0));
+  EXPECT_EQ(kr::environmentRadiance(e, Vector3f(-1, 0.2f, 0.3f).normalized()), Vector3f(2, 0, 0));
+  e.rotationDegrees = 180.0f;  // the green column now spans azimuth [180, 225) degrees
+  EXPECT_EQ(kr::environmentRadiance(e, Vector3f(-1, -0.2f, 0.3f).normalized()), Vector3f(0, 2, 0));
 }
