@@ -51,6 +51,23 @@ void validate(const Scene& scene, const std::string& file) {
       if (overlap) fail(path, "overlaps fluid_blocks[" + std::to_string(k) + "]");
     }
   }
+  for (size_t i = 0; i < sim.emitters.size(); ++i) {
+    const sim::EmitterParams& e = sim.emitters[i];
+    const std::string path = "emitters[" + std::to_string(i) + "]";
+    if (e.direction.norm() <= 0.0f) fail(path + ".direction", "must not be zero");
+    if (!(e.end > e.start)) fail(path + ".end", "must be after start");
+    if (e.radius < 0.5f * sim.fluid.spacing)
+      fail(path + ".radius", "must be at least half the fluid spacing, or the nozzle emits nothing");
+    if ((e.position.array() - e.radius < box.min.array()).any() || (e.position.array() + e.radius > box.max.array()).any())
+      fail(path, "the nozzle at " + vec(e.position) + " with radius " + std::to_string(e.radius) +
+                     " m lies (partly) outside the container");
+  }
+  for (size_t i = 0; i < sim.sinks.size(); ++i) {
+    const sim::SinkParams& k = sim.sinks[i];
+    for (int a = 0; a < 3; ++a)
+      if (!(k.max[a] > k.min[a]))
+        fail("sinks[" + std::to_string(i) + "].max", "must exceed min on every axis, got min " + vec(k.min) + ", max " + vec(k.max));
+  }
   const sim::TimeStepParams& ts = sim.timeStep;
   if (ts.minStep > ts.maxStep) fail("time_step.min_step", "must not exceed time_step.max_step");
   const render::Camera& cam = scene.render.camera;

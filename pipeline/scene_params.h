@@ -13,6 +13,10 @@ inline const EnumTable<sim::NegativePressure> kNegativePressure{{"clamp", sim::N
                                                                 {"keep", sim::NegativePressure::Keep}};
 inline const EnumTable<sim::WallSlip> kWallSlip{{"no_slip", sim::WallSlip::NoSlip},
                                                 {"free_slip", sim::WallSlip::FreeSlip}};
+inline const EnumTable<sim::PressureForce> kPressureForce{{"mueller2003", sim::PressureForce::Mueller2003},
+                                                          {"monaghan1992", sim::PressureForce::Monaghan1992}};
+inline const EnumTable<sim::WallDensity> kWallDensity{{"none", sim::WallDensity::None},
+                                                      {"wall_weight", sim::WallDensity::WallWeight}};
 inline const EnumTable<sim::TimeStepMode> kTimeStepMode{{"fixed", sim::TimeStepMode::Fixed},
                                                         {"adaptive", sim::TimeStepMode::Adaptive}};
 
@@ -31,6 +35,10 @@ void describe(V& v, sim::FluidParams& p) {
                 {"", "'clamp' sets p = max(0, k (rho - rho0)) so that free surfaces, where a particle has fewer "
                      "neighbours than at rest, do not pull particles into clumps (tensile instability); 'keep' "
                      "uses the paper's p = k (rho - rho0) unchanged"});
+  v.enumeration("pressure_force", p.pressureForce, kPressureForce,
+                {"", "'mueller2003': the paper's (5), -sum m_j (p_i + p_j) / (2 rho_j) grad W, which recovers only "
+                     "half of grad p (a fluid at rest carries about twice the physical pressure); 'monaghan1992': "
+                     "-rho_i sum m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W, consistent and momentum-conserving"});
 }
 
 template <class V>
@@ -40,12 +48,33 @@ void describe(V& v, sim::ContainerParams& p) {
   v.enumeration("walls", p.walls, kWallSlip,
                 {"", "'no_slip' (the paper): a particle that enters a wall is put back on it and stopped; "
                      "'free_slip': put back, only the velocity into the wall removed"});
+  v.enumeration("wall_density", p.wallDensity, kWallDensity,
+                {"", "'none' (the paper): walls only clamp positions, so particles near a wall miss kernel mass and "
+                     "crowd against it; 'wall_weight': walls add the density and pressure of a virtual particle "
+                     "lattice behind them (Harada, Koshizuka & Kawaguchi 2007) and keep particle centres half a "
+                     "spacing inside"});
 }
 
 template <class V>
 void describe(V& v, sim::FluidBlock& p) {
   v.value("min", p.min, {"m", "lower corner; particles start half a spacing inside", anyValue(), true});
   v.value("max", p.max, {"m", "upper corner", anyValue(), true});
+}
+
+template <class V>
+void describe(V& v, sim::EmitterParams& p) {
+  v.value("position", p.position, {"m", "centre of the nozzle disc", anyValue(), true});
+  v.value("direction", p.direction, {"", "outflow direction (need not be unit length)", anyValue(), true});
+  v.value("radius", p.radius, {"m", "nozzle radius", positive(), true});
+  v.value("speed", p.speed, {"m/s", "outflow speed", positive(), true});
+  v.value("start", p.start, {"s", "time the nozzle opens", nonNegative()});
+  v.value("end", p.end, {"s", "time the nozzle closes", nonNegative(), true});
+}
+
+template <class V>
+void describe(V& v, sim::SinkParams& p) {
+  v.value("min", p.min, {"m", "lower corner of the outflow box", anyValue(), true});
+  v.value("max", p.max, {"m", "upper corner of the outflow box", anyValue(), true});
 }
 
 template <class V>
@@ -211,6 +240,8 @@ void describe(V& v, Scene& s) {
   v.value("gravity", s.sim.gravity, {"m/s^2", "gravitational acceleration vector (paper: 6.0 downward); z is up"});
   v.object("container", s.sim.container, {"", "the box (tank) with walls on all six sides", {}, true});
   v.list("fluid_blocks", s.sim.fluidBlocks, {"", "boxes filled with fluid particles at t = 0"});
+  v.list("emitters", s.sim.emitters, {"", "nozzles that pour fluid in (faucets)"});
+  v.list("sinks", s.sim.sinks, {"", "boxes that remove the fluid particles entering them (outflows)"});
   v.object("time_step", s.sim.timeStep, {"", "time integration step control"});
   v.object("output", s.output, {"", "what to write: duration and frame rate", {}, true});
   v.object("surface", s.surface, {"", "metaball surfacing"});
