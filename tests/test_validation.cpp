@@ -28,13 +28,14 @@ void expectFiniteAndInside(const Simulation& sim) {
   }
 }
 
-// A 12 x 12 x 20 column of water, 5 cm particles, physical gravity; c = 15 m/s is over 10 times
-// the largest speed while it settles (about 0.7 m/s).
+// A 12 x 12 x 20 column of water, 5 cm particles, h = 2 spacings (as validation codes use),
+// physical gravity; c = 15 m/s is over 10 times the largest speed while it settles (about 0.7 m/s).
 SimParams waterColumn(PressureForce form, WallDensity walls) {
   const float l = 0.05f;
   SimParams p;
   p.fluid.spacing = l;
-  p.fluid.kinematicViscosity = 1e-3f;  // 1000 x water: damps the settling within a second
+  p.fluid.supportRadius = 2.0f;
+  p.fluid.kinematicViscosity = 3e-3f;  // 3000 x water: damps the settling within two seconds
   p.fluid.pressureStiffness = 15.0f * 15.0f;
   p.fluid.pressureForce = form;
   p.gravity = Eigen::Vector3f(0, 0, -9.81f);
@@ -138,11 +139,14 @@ TEST(PapersFluid, SettlesWithoutBlowingUp) {
 
 TEST(Hydrostatic, WallWeightsKeepTheColumnHeightAndSettle) {
   Simulation sim(waterColumn(PressureForce::Monaghan1992, WallDensity::WallWeight));
-  sim.advanceTo(0.5);
-  const double early = kineticEnergy(sim.particles());
+  double peak = 0.0;
+  for (int f = 1; f <= 10; ++f) {
+    sim.advanceTo(f * 0.1);
+    peak = std::max(peak, kineticEnergy(sim.particles()));
+  }
   sim.advanceTo(2.5);
   expectFiniteAndInside(sim);
-  EXPECT_LT(kineticEnergy(sim.particles()), 0.05 * early);
+  EXPECT_LT(kineticEnergy(sim.particles()), 0.1 * peak);
   // Without wall weights particles crowd against the walls and the column loses about a fifth of
   // its height; with them the top stays within one spacing of the initial surface.
   float top = 0.0f;
@@ -150,15 +154,16 @@ TEST(Hydrostatic, WallWeightsKeepTheColumnHeightAndSettle) {
   EXPECT_GT(top, 20 * 0.05f - 1.5f * 0.05f);
 }
 
-TEST(Hydrostatic, ConsistentFormGivesThePhysicalPressureGradientWithin30Percent) {
-  // dp/dz = rho g in the interior. The target is 5 %; the Monaghan form with wall weights
-  // measures 1.22 rho g here (the spiky gradient estimate at h = 1.5 l is not exact on a
-  // disordered neighbourhood; a per-particle kernel gradient correction is the next step:
-  // docs/PHYSICS.md). This guards the current state; the paper's form gives 2.
+TEST(Hydrostatic, ConsistentFormGivesThePhysicalPressureGradient) {
+  // dp/dz = rho g in the interior. The target is 5 % of rho g H at every depth; the
+  // Monaghan form with wall weights measures a slope of about 1.1 rho g here (1.22 at h = 1.5 l:
+  // the spiky gradient estimate is not exact on a disordered neighbourhood; a per-particle kernel
+  // gradient correction is the next step: docs/PHYSICS.md). This guards the current state; the
+  // paper's form gives 2.
   Simulation sim(waterColumn(PressureForce::Monaghan1992, WallDensity::WallWeight));
   const double ratio = interiorPressureGradient(sim);
   RecordProperty("gradient_over_rho_g", std::to_string(ratio));
-  EXPECT_NEAR(ratio, 1.0, 0.3);
+  EXPECT_NEAR(ratio, 1.0, 0.2);
 }
 
 TEST(Hydrostatic, PapersPressureForceCarriesTwiceThePressure) {
@@ -168,5 +173,5 @@ TEST(Hydrostatic, PapersPressureForceCarriesTwiceThePressure) {
   const double ratio = interiorPressureGradient(sim);
   RecordProperty("gradient_over_rho_g", std::to_string(ratio));
   EXPECT_GT(ratio, 1.6);
-  EXPECT_LT(ratio, 2.8);  // measured 2.46 (the wall layer adds to the 2 of the interior)
+  EXPECT_LT(ratio, 2.8);
 }
