@@ -3,12 +3,15 @@
 // tests/scenes/tiny_dam_break.json); `kurage still` against its own references (a surface still,
 // and a cross-section with particles as spheres, tests/references/tiny_still_*.png).
 //
-// Tolerance (overriding Blender's 0.016 / 1 %): a pixel fails when a channel differs by more
-// than 0.02 in sRGB-encoded value (5 of 255 levels); the test passes when at most 2 % of the
-// pixels fail and the mean error is at most 0.01. The image is only 64x48, so one pixel is
-// 0.03 %: 2 % allows about 60 pixels along the fluid's silhouette to move by a voxel between
-// compilers/libraries. The renderer's noise is deterministic (a fixed seed), so on one build the
-// images match exactly. KURAGE_UPDATE_REFERENCES=1 rewrites the references (image_test.h).
+// Tolerance (overriding Blender's 0.016 / 1 %, whose references are converged renders): a pixel
+// fails when a channel differs by more than 0.05 in sRGB-encoded value (13 of 255 levels); the
+// test passes when at most 3 % of the pixels fail and the mean error is at most 0.01. These are
+// path-traced at 16 samples per pixel, so water pixels carry noise of about +-0.1; the noise is
+// deterministic (fixed seed), but a sub-voxel change of the surface (another OpenVDB version, a
+// faster mesher) sends those pixels' paths elsewhere: between two surfacing implementations we
+// measured 1.0 % of pixels beyond 0.05 and a mean error of 0.0013. A wrong material, light or
+// camera changes most pixels by more. KURAGE_UPDATE_REFERENCES=1 rewrites the references
+// (image_test.h).
 #include "pipeline/files.h"
 #include "pipeline/particle_cache.h"
 #include "image_test.h"
@@ -25,7 +28,7 @@ using namespace kurage;
 namespace fs = std::filesystem;
 
 namespace {
-const test::ImageTolerance kTolerance{0.02f, 0.02f, 0.01};
+const test::ImageTolerance kTolerance{0.05f, 0.03f, 0.01};
 }  // namespace
 
 
