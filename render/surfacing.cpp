@@ -1,15 +1,26 @@
-// Metaball level sets with OpenVDB: field summation, narrow-band SDF conversion, meshing and
-// .vdb file I/O. See surfacing.h for the field and the conventions.
+// Metaball level sets with OpenVDB: field summation, narrow-band SDF construction, meshing and
+// .vdb file I/O. See surfacing.h for the field, the method in brief and its accuracy.
 //
-// How the field is summed (buildMetaballLevelSet): particles are binned by the 8^3 leaf that
-// holds their nearest voxel, then every leaf that any particle's support can reach is filled
-// independently (in parallel) by gathering from the particles of the neighbouring bins, in a
-// fixed order. There are no atomics and no per-thread grids, so the result is bit for bit the
-// same for any thread count.
+// 1. Summation (sumField): particles are binned by blocks of 4^3 voxels around their nearest
+//    voxel, then every 8^3 leaf that any particle's support can reach is filled independently
+//    (in parallel) by gathering from the particles of the bins within reach, in a fixed order,
+//    whole rows of 8 voxels at a time. No atomics, no per-thread grids: the sums are bit for bit
+//    the same for any thread count.
+// 2. Surface samples (findCrossings), per leaf: voxels where f - T changes sign towards a face
+//    neighbour get a distance estimate min(t, Newton), with t the nearest crossing along an axis
+//    (linear interpolation of f) and Newton = |f - T| / |grad f| (central differences); voxels
+//    with no crossing get the Newton estimate when it is below one voxel. Points on the surface:
+//    every edge crossing, and the Newton foot point x -+ Newton * grad f / |grad f|.
+// 3. Narrow band (narrowBand), per leaf around the leaves with samples: each voxel's distance is
+//    the smallest of its own estimate and its distances to the surface points within halfWidth
+//    voxels (splatted, whole rows at a time), signed by f - T (negative where f > T). Voxels
+//    beyond halfWidth stay inactive at +-background, and the signed flood fill gives the leaves
+//    left out their inside or outside value. Minima do not depend on the order, so this step is
+//    thread-count independent too.
 //
-// The field is then turned into a narrow-band SDF by fast sweeping (tools::fogToSdf) restricted
-// to a band of voxels around the inside boundary, trimmed to |d| < halfWidth * voxelSize, and
-// the inactive interior is flood-filled with -background.
+// This replaced tools::fogToSdf (fast sweeping over a band found by dilating and eroding the
+// inside mask), which took 1.6 s of the 3.1 s for a 1,000,000-particle tank on 2 threads; the
+// whole build now takes about 0.7 s there (`kurage bench surface`, README).
 #include "render/surfacing.h"
 
 #include "render/level_set_impl.h"
@@ -17,12 +28,8 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/io/File.h>
 #include <openvdb/tools/Interpolation.h>
-#include <openvdb/tools/ChangeBackground.h>
-#include <openvdb/tools/FastSweeping.h>
-#include <openvdb/tools/Morphology.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
-#include <openvdb/tree/LeafManager.h>
 #include <openvdb/tools/VolumeToMesh.h>
 
 #include <tbb/blocked_range.h>
@@ -33,6 +40,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <stdexcept>
 #include <system_error>
@@ -80,6 +88,22 @@ uint64_t packLeafKey(int64_t x, int64_t y, int64_t z) {
   return (u(x) << (2 * kKeyBits)) | (u(y) << kKeyBits) | u(z);
 }
 
+// The integer coordinates packed by packLeafKey.
+std::array<int64_t, 3> unpackKey(uint64_t key) {
+  const uint64_t mask = (uint64_t(1) << kKeyBits) - 1;
+  const auto s = [](uint64_t v) { return static_cast<int64_t>(v) - kKeyLimit; };
+  return {s((key >> (2 * kKeyBits)) & mask), s((key >> kKeyBits) & mask), s(key & mask)};
+}
+
+// Particles are binned by blocks of 4^3 voxels: half a leaf, so that a leaf gathers from little
+// more than the particles whose support reaches it.
+constexpr int kBinDim = 4;
+
+// Four floats as one SSE/NEON register (GCC and Clang vector extension).
+typedef float Float4 __attribute__((vector_size(16)));
+
+int64_t floorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+
 Coord unpackLeafOrigin(uint64_t key) {
   const uint64_t mask = (uint64_t(1) << kKeyBits) - 1;
   const auto s = [](uint64_t v) { return static_cast<int32_t>(static_cast<int64_t>(v) - kKeyLimit); };
@@ -104,37 +128,45 @@ openvdb::FloatGrid::Ptr emptyLevelSetGrid(double voxelSize, float halfWidth) {
   return grid;
 }
 
+// The metaball field on the leaves (8^3 voxels) that any particle's support reaches, stored
+// densely in OpenVDB's voxel order (offset = x * 64 + y * 8 + z). Leaves where f is 0 at every
+// voxel are left out; f is 0 in every leaf left out.
 struct SummedField {
-  openvdb::FloatGrid::Ptr field;     // f, background 0, active where f > 0
-  openvdb::MaskTree::Ptr inside;     // voxels where f > T
+  std::vector<uint64_t> keys;  // sorted leaf keys (packLeafKey)
+  std::vector<float> values;   // keys.size() * 512 values of f
+  const float* leaf(uint64_t key) const {
+    const auto it = std::lower_bound(keys.begin(), keys.end(), key);
+    return (it == keys.end() || *it != key) ? nullptr : &values[size_t(it - keys.begin()) * FloatLeaf::SIZE];
+  }
 };
 
-// Sums the metaball field f into a sparse grid.
+// Sums the metaball field f.
 SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params) {
   const double h = params.voxelSize;
   const double invH = 1.0 / h;
   const double r = static_cast<double>(params.radius) * invH;  // support radius in voxels
   const float invR2 = static_cast<float>(1.0 / (r * r));
   const float strength = params.strength;
-  // Reach of a bin in leaves: a particle is within half a voxel of a voxel of its bin.
-  const int reach = static_cast<int>(std::ceil((r + 0.5) / kLeafDim));
+  // Reach in voxels: a particle is within half a voxel of a voxel of its bin.
+  const int reach = static_cast<int>(std::ceil(r + 0.5));
+  const int64_t binLimit = kKeyLimit / 2 - reach - 2;  // so that leaf keys stay in range too
 
-  // 1. Bin: key of the leaf holding each particle's nearest voxel; sort (key, index).
+  // 1. Bin: key of the bin holding each particle's nearest voxel; sort (key, index).
   const size_t n = positions.size();
   std::vector<std::pair<uint64_t, uint32_t>> order(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
       const Eigen::Vector3f& p = positions[i];
-      int64_t leaf[3];
+      int64_t bin[3];
       for (int a = 0; a < 3; ++a) {
         const double q = std::floor(static_cast<double>(p[a]) * invH + 0.5);
         if (!std::isfinite(q)) throw std::invalid_argument("metaball: particle position is not finite");
-        leaf[a] = static_cast<int64_t>(std::floor(q / kLeafDim));
-        if (std::abs(leaf[a]) >= kKeyLimit - reach - 1) {
+        if (std::abs(q) >= double(binLimit) * kBinDim) {
           throw std::invalid_argument("metaball: particle position too far from the origin for the voxel size");
         }
+        bin[a] = floorDiv(static_cast<int64_t>(q), kBinDim);
       }
-      order[i] = {packLeafKey(leaf[0], leaf[1], leaf[2]), static_cast<uint32_t>(i)};
+      order[i] = {packLeafKey(bin[0], bin[1], bin[2]), static_cast<uint32_t>(i)};
     }
   });
   tbb::parallel_sort(order.begin(), order.end());
@@ -161,15 +193,19 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const Metaba
   order.clear();
   order.shrink_to_fit();
 
-  // 2. Target leaves: every bin dilated by the reach.
+  // 2. Target leaves: the leaves that meet a bin's voxels dilated by the reach.
   std::vector<uint64_t> targets;
   targets.reserve(binKeys.size() * 8);
   for (const uint64_t key : binKeys) {
-    const Coord o = unpackLeafOrigin(key);
-    for (int dx = -reach; dx <= reach; ++dx)
-      for (int dy = -reach; dy <= reach; ++dy)
-        for (int dz = -reach; dz <= reach; ++dz)
-          targets.push_back(packLeafKey(o.x() / kLeafDim + dx, o.y() / kLeafDim + dy, o.z() / kLeafDim + dz));
+    const std::array<int64_t, 3> b = unpackKey(key);
+    int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = floorDiv(b[a] * kBinDim - reach, kLeafDim);
+      hi[a] = floorDiv(b[a] * kBinDim + kBinDim - 1 + reach, kLeafDim);
+    }
+    for (int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t z = lo[2]; z <= hi[2]; ++z) targets.push_back(packLeafKey(x, y, z));
   }
   tbb::parallel_sort(targets.begin(), targets.end());
   targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
@@ -188,24 +224,29 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const Metaba
 
   // 3. Fill every target leaf by gathering from the neighbouring bins (fixed order). Also
   // record which voxels are inside (f > T).
-  std::vector<std::unique_ptr<FloatLeaf>> leaves(targets.size());
-  std::vector<std::unique_ptr<MaskLeaf>> insideLeaves(targets.size());
-  const float threshold = params.threshold;
+  std::vector<float> values(targets.size() * FloatLeaf::SIZE);
+  std::vector<char> nonZero(targets.size(), 0);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, targets.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
-    std::array<float, FloatLeaf::SIZE> field;
     float wx[kLeafDim], wy[kLeafDim], wz[kLeafDim];
     for (size_t t = range.begin(); t != range.end(); ++t) {
-      field.fill(0.0f);
+      float* field = &values[t * FloatLeaf::SIZE];
+      std::fill(field, field + FloatLeaf::SIZE, 0.0f);
       const Coord origin = unpackLeafOrigin(targets[t]);
       const openvdb::Vec3d o(origin.x(), origin.y(), origin.z());
       const openvdb::Vec3d oEnd = o + openvdb::Vec3d(kLeafDim - 1);
-      for (int dx = -reach; dx <= reach; ++dx)
-        for (int dy = -reach; dy <= reach; ++dy)
-          for (int dz = -reach; dz <= reach; ++dz) {
-            const uint64_t key = packLeafKey(origin.x() / kLeafDim + dx, origin.y() / kLeafDim + dy,
-                                             origin.z() / kLeafDim + dz);
-            const auto it = std::lower_bound(binKeys.begin(), binKeys.end(), key);
-            if (it == binKeys.end() || *it != key) continue;
+      // The bins whose voxels dilated by the reach meet this leaf, in key order: for each
+      // (x, y) column of bins, the z range is contiguous in the sorted keys.
+      int64_t binFirst[3], binLast[3];
+      const int32_t oc[3] = {origin.x(), origin.y(), origin.z()};
+      for (int a = 0; a < 3; ++a) {
+        binFirst[a] = floorDiv(int64_t(oc[a]) - reach, kBinDim);
+        binLast[a] = floorDiv(int64_t(oc[a]) + kLeafDim - 1 + reach, kBinDim);
+      }
+      for (int64_t bx = binFirst[0]; bx <= binLast[0]; ++bx)
+        for (int64_t by = binFirst[1]; by <= binLast[1]; ++by) {
+          const uint64_t last = packLeafKey(bx, by, binLast[2]);
+          for (auto it = std::lower_bound(binKeys.begin(), binKeys.end(), packLeafKey(bx, by, binFirst[2]));
+               it != binKeys.end() && *it <= last; ++it) {
             const size_t b = static_cast<size_t>(it - binKeys.begin());
             if (binLo[b].x() > oEnd.x() || binLo[b].y() > oEnd.y() || binLo[b].z() > oEnd.z() ||
                 binHi[b].x() < o.x() || binHi[b].y() < o.y() || binHi[b].z() < o.z()) {
@@ -225,45 +266,224 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const Metaba
                           pz = static_cast<float>(rel[2]);
               for (int x = lo[0]; x <= hi[0]; ++x) wx[x] = (x - px) * (x - px) * invR2;
               for (int y = lo[1]; y <= hi[1]; ++y) wy[y] = (y - py) * (y - py) * invR2;
-              for (int z = lo[2]; z <= hi[2]; ++z) wz[z] = (z - pz) * (z - pz) * invR2;
+              // Whole rows of 8 as two 4-wide vectors: outside the support w is an exact 0,
+              // and adding it keeps the sum unchanged. (The same operations on every lane, so
+              // the sums do not depend on the vector width.)
+              for (int z = 0; z < kLeafDim; ++z) wz[z] = (z - pz) * (z - pz) * invR2;
+              Float4 wz0, wz1;
+              std::memcpy(&wz0, &wz[0], sizeof wz0);
+              std::memcpy(&wz1, &wz[4], sizeof wz1);
+              const Float4 zero = {0.0f, 0.0f, 0.0f, 0.0f};
               for (int x = lo[0]; x <= hi[0]; ++x)
                 for (int y = lo[1]; y <= hi[1]; ++y) {
                   const float dxy = wx[x] + wy[y];
                   if (dxy >= 1.0f) continue;
                   float* row = &field[static_cast<size_t>((x << (2 * kLeafLog2)) | (y << kLeafLog2))];
-                  for (int z = lo[2]; z <= hi[2]; ++z) {
-                    // Adding an exact 0 outside the support keeps the sum unchanged.
-                    const float w = std::max(0.0f, 1.0f - (dxy + wz[z]));
-                    row[z] += strength * w * w;
-                  }
+                  Float4 w0 = 1.0f - (dxy + wz0), w1 = 1.0f - (dxy + wz1);
+                  w0 = w0 > zero ? w0 : zero;
+                  w1 = w1 > zero ? w1 : zero;
+                  Float4 r0, r1;
+                  std::memcpy(&r0, row, sizeof r0);
+                  std::memcpy(&r1, row + 4, sizeof r1);
+                  r0 += strength * w0 * w0;
+                  r1 += strength * w1 * w1;
+                  std::memcpy(row, &r0, sizeof r0);
+                  std::memcpy(row + 4, &r1, sizeof r1);
                 }
             }
           }
-      std::unique_ptr<FloatLeaf> leaf;
-      std::unique_ptr<MaskLeaf> inside;
-      for (openvdb::Index v = 0; v < FloatLeaf::SIZE; ++v) {
-        if (field[v] <= 0.0f) continue;
-        if (!leaf) leaf = std::make_unique<FloatLeaf>(origin, 0.0f, false);
-        leaf->setValueOn(v, field[v]);
-        if (field[v] > threshold) {
-          if (!inside) inside = std::make_unique<MaskLeaf>(origin, false);
-          inside->setValueOn(v);
         }
-      }
-      leaves[t] = std::move(leaf);
-      insideLeaves[t] = std::move(inside);
+      nonZero[t] = std::any_of(field, field + FloatLeaf::SIZE, [](float v) { return v > 0.0f; });
     }
   });
 
   SummedField out;
-  out.field = openvdb::FloatGrid::create(0.0f);
-  out.field->setTransform(openvdb::math::Transform::createLinearTransform(h));
-  out.inside = std::make_shared<openvdb::MaskTree>(false);
+  const size_t kept = size_t(std::count(nonZero.begin(), nonZero.end(), char(1)));
+  out.keys.reserve(kept);
+  out.values.resize(kept * FloatLeaf::SIZE);
   for (size_t t = 0; t < targets.size(); ++t) {
-    if (leaves[t]) out.field->tree().addLeaf(leaves[t].release());  // the tree takes ownership
-    if (insideLeaves[t]) out.inside->addLeaf(insideLeaves[t].release());
+    if (!nonZero[t]) continue;
+    std::copy_n(&values[t * FloatLeaf::SIZE], FloatLeaf::SIZE, &out.values[out.keys.size() * FloatLeaf::SIZE]);
+    out.keys.push_back(targets[t]);
   }
   return out;
+}
+
+// The surface near the voxels of one leaf: the voxels next to it with their own distance
+// estimates, and points on it (index space).
+struct SurfaceSamples {
+  std::vector<std::pair<uint16_t, float>> voxels;  // (offset in the leaf, distance in voxels)
+  std::vector<std::array<float, 3>> points;
+};
+
+// The crossings of every leaf of the summed field: a voxel is at the surface when f - T changes
+// sign between it and a face neighbour. Along axis a the crossing lies t_a voxels away
+// (t_a = (f - T) / (f - f_neighbour), linear interpolation, the nearer side when both cross);
+// treating the surface as a plane through those crossings gives the distance
+// d = 1 / sqrt(sum_a 1 / t_a^2) and the nearest point x + d^2 sum_a sign_a / t_a e_a (exact for a
+// plane, as in the initialisation of fast marching).
+constexpr float kNewtonReach = 1.0f;  // voxels
+
+std::vector<SurfaceSamples> findCrossings(const SummedField& field, float threshold) {
+  std::vector<SurfaceSamples> crossings(field.keys.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, field.keys.size(), 8), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t l = range.begin(); l != range.end(); ++l) {
+      const float* f = &field.values[l * FloatLeaf::SIZE];
+      const Coord origin = unpackLeafOrigin(field.keys[l]);
+      const int64_t lx = origin.x() / kLeafDim, ly = origin.y() / kLeafDim, lz = origin.z() / kLeafDim;
+      // The six face-neighbour leaves (null where the field is 0).
+      const float* lower[3] = {field.leaf(packLeafKey(lx - 1, ly, lz)), field.leaf(packLeafKey(lx, ly - 1, lz)),
+                               field.leaf(packLeafKey(lx, ly, lz - 1))};
+      const float* upper[3] = {field.leaf(packLeafKey(lx + 1, ly, lz)), field.leaf(packLeafKey(lx, ly + 1, lz)),
+                               field.leaf(packLeafKey(lx, ly, lz + 1))};
+      constexpr int kStride[3] = {kLeafDim * kLeafDim, kLeafDim, 1};
+      for (int v = 0; v < int(FloatLeaf::SIZE); ++v) {
+        const int c[3] = {v >> (2 * kLeafLog2), (v >> kLeafLog2) & (kLeafDim - 1), v & (kLeafDim - 1)};
+        const float fv = f[v] - threshold;
+        const bool inside = fv > 0.0f;
+        float gradient[3], nearest = 2.0f;
+        for (int a = 0; a < 3; ++a) {
+          float neighbour[2];
+          for (int side = -1; side <= 1; side += 2) {
+            float fn;
+            const int n = c[a] + side;
+            if (n >= 0 && n < kLeafDim) {
+              fn = f[v + side * kStride[a]];
+            } else {
+              const float* other = side < 0 ? lower[a] : upper[a];
+              fn = other ? other[v + side * kStride[a] - side * kLeafDim * kStride[a]] : 0.0f;
+            }
+            fn -= threshold;
+            neighbour[(side + 1) / 2] = fn;
+            if ((fn > 0.0f) == inside) continue;
+            const float t = fv / (fv - fn);  // in [0, 1): fv and fn differ in sign (or fv = 0)
+            nearest = std::min(nearest, t);
+            if (inside) {  // each crossing once: seen from its inside end
+              std::array<float, 3> point = {float(origin.x() + c[0]), float(origin.y() + c[1]), float(origin.z() + c[2])};
+              point[size_t(a)] += float(side) * t;
+              crossings[l].points.push_back(point);
+            }
+          }
+          gradient[a] = 0.5f * (neighbour[1] - neighbour[0]);
+        }
+        const float norm = std::sqrt(gradient[0] * gradient[0] + gradient[1] * gradient[1] + gradient[2] * gradient[2]);
+        // One Newton step along the gradient, never farther than a crossing already found;
+        // without a crossing on the six edges, only when it lands within kNewtonReach.
+        const float newton = norm > 0.0f ? std::abs(fv) / norm : std::numeric_limits<float>::infinity();
+        if (nearest > 1.0f && !(newton < kNewtonReach)) continue;
+        const float distance = std::min(nearest, newton);
+        crossings[l].voxels.emplace_back(uint16_t(v), distance);
+        if (!(newton <= nearest)) continue;  // the crossings are nearer, and already points
+        const float step = (inside ? -newton : newton) / norm;
+        crossings[l].points.push_back({float(origin.x() + c[0]) + step * gradient[0],
+                                       float(origin.y() + c[1]) + step * gradient[1],
+                                       float(origin.z() + c[2]) + step * gradient[2]});
+      }
+    }
+  });
+  return crossings;
+}
+
+// The narrow band: every voxel within halfWidth voxels of a surface point (the foot points of
+// the crossings) gets the distance to the nearest one, signed by f - T; voxels on the surface
+// keep their own estimate when it is smaller. The leaves are those around the leaves with
+// crossings; everything else is left to the signed flood fill.
+openvdb::FloatGrid::Ptr narrowBand(const SummedField& field, const std::vector<SurfaceSamples>& crossings,
+                                   const MetaballParams& params) {
+  const float h = params.voxelSize;
+  const float background = params.halfWidth * h;
+  const float radius = params.halfWidth;  // voxels
+  const float radius2 = radius * radius;
+  const int reach = static_cast<int>(std::ceil((radius + 1.0f) / kLeafDim));
+
+  std::vector<uint64_t> surfaceKeys;    // leaves with crossings, sorted
+  std::vector<size_t> surfaceLeaf;      // their index in field.keys
+  for (size_t l = 0; l < field.keys.size(); ++l)
+    if (!crossings[l].voxels.empty()) surfaceKeys.push_back(field.keys[l]), surfaceLeaf.push_back(l);
+  std::vector<uint64_t> targets;
+  for (const uint64_t key : surfaceKeys) {
+    const Coord o = unpackLeafOrigin(key);
+    for (int dx = -reach; dx <= reach; ++dx)
+      for (int dy = -reach; dy <= reach; ++dy)
+        for (int dz = -reach; dz <= reach; ++dz)
+          targets.push_back(packLeafKey(o.x() / kLeafDim + dx, o.y() / kLeafDim + dy, o.z() / kLeafDim + dz));
+  }
+  tbb::parallel_sort(targets.begin(), targets.end());
+  targets.erase(std::unique(targets.begin(), targets.end()), targets.end());
+
+  std::vector<std::unique_ptr<FloatLeaf>> leaves(targets.size());
+  const float threshold = params.threshold;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, targets.size(), 8), [&](const tbb::blocked_range<size_t>& range) {
+    alignas(16) std::array<float, FloatLeaf::SIZE> dist2;
+    float wx[kLeafDim], wy[kLeafDim], wz[kLeafDim];
+    for (size_t t = range.begin(); t != range.end(); ++t) {
+      dist2.fill(std::numeric_limits<float>::infinity());
+      const Coord origin = unpackLeafOrigin(targets[t]);
+      const int64_t lx = origin.x() / kLeafDim, ly = origin.y() / kLeafDim, lz = origin.z() / kLeafDim;
+      const float* f = field.leaf(targets[t]);
+      for (int dx = -reach; dx <= reach; ++dx)
+        for (int dy = -reach; dy <= reach; ++dy)
+          for (int dz = -reach; dz <= reach; ++dz) {
+            const uint64_t key = packLeafKey(lx + dx, ly + dy, lz + dz);
+            const auto it = std::lower_bound(surfaceKeys.begin(), surfaceKeys.end(), key);
+            if (it == surfaceKeys.end() || *it != key) continue;
+            const SurfaceSamples& samples = crossings[surfaceLeaf[size_t(it - surfaceKeys.begin())]];
+            if (dx == 0 && dy == 0 && dz == 0)
+              for (const auto& [offset, d] : samples.voxels) dist2[offset] = std::min(dist2[offset], d * d);
+            for (const std::array<float, 3>& point : samples.points) {
+              const float px = point[0] - float(origin.x()), py = point[1] - float(origin.y()),
+                          pz = point[2] - float(origin.z());
+              int lo[3], hi[3];
+              bool overlaps = true;
+              const float p[3] = {px, py, pz};
+              for (int a = 0; a < 3; ++a) {
+                lo[a] = std::max(0, static_cast<int>(std::ceil(p[a] - radius)));
+                hi[a] = std::min(kLeafDim - 1, static_cast<int>(std::floor(p[a] + radius)));
+                overlaps = overlaps && lo[a] <= hi[a];
+              }
+              if (!overlaps) continue;
+              for (int x = lo[0]; x <= hi[0]; ++x) wx[x] = (float(x) - px) * (float(x) - px);
+              for (int y = lo[1]; y <= hi[1]; ++y) wy[y] = (float(y) - py) * (float(y) - py);
+              // Whole rows of 8: a voxel farther than the radius gets a true distance too, which
+              // can only be >= the radius and so leaves it out of the band as before.
+              for (int z = 0; z < kLeafDim; ++z) wz[z] = (float(z) - pz) * (float(z) - pz);
+              Float4 wz0, wz1;
+              std::memcpy(&wz0, &wz[0], sizeof wz0);
+              std::memcpy(&wz1, &wz[4], sizeof wz1);
+              for (int x = lo[0]; x <= hi[0]; ++x)
+                for (int y = lo[1]; y <= hi[1]; ++y) {
+                  const float dxy = wx[x] + wy[y];
+                  if (dxy >= radius2) continue;
+                  float* row = &dist2[static_cast<size_t>((x << (2 * kLeafLog2)) | (y << kLeafLog2))];
+                  Float4 r0, r1;
+                  std::memcpy(&r0, row, sizeof r0);
+                  std::memcpy(&r1, row + 4, sizeof r1);
+                  const Float4 d0 = dxy + wz0, d1 = dxy + wz1;
+                  r0 = d0 < r0 ? d0 : r0;
+                  r1 = d1 < r1 ? d1 : r1;
+                  std::memcpy(row, &r0, sizeof r0);
+                  std::memcpy(row + 4, &r1, sizeof r1);
+                }
+            }
+          }
+      auto leaf = std::make_unique<FloatLeaf>(origin, background, false);
+      float* values = leaf->buffer().data();
+      for (openvdb::Index v = 0; v < FloatLeaf::SIZE; ++v) {
+        const bool inside = f && f[v] > threshold;
+        const float d = std::sqrt(dist2[v]) * h;
+        if (d < background) {
+          values[v] = inside ? -d : d;
+          leaf->setValueOn(v);
+        } else {
+          values[v] = inside ? -background : background;
+        }
+      }
+      leaves[t] = std::move(leaf);
+    }
+  });
+  auto grid = emptyLevelSetGrid(h, params.halfWidth);
+  for (auto& leaf : leaves) grid->tree().addLeaf(leaf.release());  // the tree takes ownership
+  return grid;
 }
 
 Eigen::Vector3f toEigen(const openvdb::Vec3s& v) { return {v.x(), v.y(), v.z()}; }
@@ -281,45 +501,17 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
     result.impl->grid = emptyLevelSetGrid(params.voxelSize, params.halfWidth);
     return result;
   }
-  const float h = params.voxelSize;
-  const float background = params.halfWidth * h;
-  const SummedField summed = sumField(positions, params);  const openvdb::FloatGrid::Ptr& field = summed.field;
-  // Restrict the sweep to a band around the surface: voxels within n (max-norm) of the inside
-  // boundary. This activates the outside band beyond the field's support (value 0, which can
-  // end closer to the surface than halfWidth) and drops the deep interior.
-  {
-    const int n = static_cast<int>(std::ceil(params.halfWidth)) + 1;
-    openvdb::MaskTree outer(*summed.inside), inner(*summed.inside);
-    openvdb::tools::dilateActiveValues(outer, n, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
-    openvdb::tools::erodeActiveValues(inner, n, openvdb::tools::NN_FACE_EDGE_VERTEX, openvdb::tools::IGNORE_TILES);
-    field->tree().topologyUnion(outer);
-    field->tree().topologyIntersection(outer);
-    field->tree().topologyDifference(inner);
-  }
-    // Signed distance to f = T on the active voxels (negative where f > T), by fast sweeping.
-  // (tools::levelSetRebuild, i.e. volumeToMesh + meshToVolume, misclassified the sign of a few
-  // voxels near saddles of the summed field in the brute-force test, and was slower.)
-  openvdb::FloatGrid::Ptr sdf = openvdb::tools::fogToSdf(*field, params.threshold, 1);  if (!sdf) {  // no voxel centre reaches the threshold: the surface is below the resolution
-    result.impl->grid = emptyLevelSetGrid(h, params.halfWidth);
+  const SummedField field = sumField(positions, params);
+  const std::vector<SurfaceSamples> crossings = findCrossings(field, params.threshold);
+  if (std::all_of(crossings.begin(), crossings.end(), [](const auto& c) { return c.voxels.empty(); })) {
+    // No voxel centre reaches the threshold: the surface is below the resolution.
+    result.impl->grid = emptyLevelSetGrid(params.voxelSize, params.halfWidth);
     return result;
   }
-  // Keep the narrow band |d| < halfWidth * voxelSize; everything else becomes +-background.
-  openvdb::tree::LeafManager<openvdb::FloatTree> leaves(sdf->tree());
-  leaves.foreach([background](FloatLeaf& leaf, size_t) {
-    for (auto it = leaf.beginValueOn(); it; ++it) {
-      const float d = *it;
-      if (d >= background) {
-        leaf.setValueOff(it.pos(), background);
-      } else if (d <= -background) {
-        leaf.setValueOff(it.pos(), -background);
-      }
-    }
-  });
- openvdb::tools::changeLevelSetBackground(sdf->tree(), background);
-  openvdb::tools::signedFloodFill(sdf->tree());  // inactive interior -> -background
+  openvdb::FloatGrid::Ptr sdf = narrowBand(field, crossings, params);
+  openvdb::tools::signedFloodFill(sdf->tree());  // leaves left out -> +-background tiles
   openvdb::tools::pruneLevelSet(sdf->tree());
-  sdf->setTransform(openvdb::math::Transform::createLinearTransform(h));
-  sdf->setGridClass(openvdb::GRID_LEVEL_SET);  result.impl->grid = sdf;
+  result.impl->grid = sdf;
   return result;
 }
 

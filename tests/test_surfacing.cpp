@@ -163,6 +163,36 @@ TEST_P(SingleBlob, MeshOnAnalyticSphereWithOutwardNormalsAndCounterClockwiseFace
   EXPECT_NEAR(volume, sphere, 0.1 * sphere);
 }
 
+TEST_P(SingleBlob, EveryBandVoxelIsCloseToTheDistanceToTheSphere) {
+  // The band's distances (nearest estimated surface point, render/surfacing.cpp) against the
+  // exact distance to the analytic sphere, at every voxel centre of the band.
+  const MetaballParams params = GetParam();
+  const Eigen::Vector3f centre(0.13f, -0.07f, 0.21f);
+  const LevelSet ls = buildMetaballLevelSet({centre}, params);
+  const double r0 = analyticRadius(params);
+  const float h = params.voxelSize;
+  const float background = params.halfWidth * h;
+  const int n = int(std::ceil((r0 + background) / h)) + 2;
+  size_t band = 0;
+  double worst = 0.0;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        const Eigen::Vector3f x(i * h, j * h, k * h);
+        const float sdf = ls.sample(x);
+        const double exact = (x - centre).cast<double>().norm() - r0;
+        if (std::abs(exact) < background - h) {
+          EXPECT_LT(std::abs(sdf), background) << "voxel " << i << " " << j << " " << k << " left out of the band";
+        }
+        if (std::abs(sdf) >= background) continue;
+        ++band;
+        worst = std::max(worst, std::abs(sdf - exact));
+        EXPECT_NEAR(sdf, exact, 0.25 * h) << "voxel " << i << " " << j << " " << k;
+      }
+  EXPECT_GT(band, 500u);
+  RecordProperty("worst_error_in_voxels", std::to_string(worst / h));
+}
+
 INSTANTIATE_TEST_SUITE_P(Metaball, SingleBlob, ::testing::Values(kParamsA, kParamsB),
                          [](const ::testing::TestParamInfo<MetaballParams>& info) {
                            return info.index == 0 ? std::string("R2_T06") : std::string("R1_T02");
