@@ -83,6 +83,51 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass)
   for (float& v : density_) v = float(v * scale);
   for (float& v : gradient_) v = float(v * scale);
 
+  // Edge table: lattice points behind both walls (depths (i + 1/2) l and (j + 1/2) l), averaged
+  // over the offset along the edge, with the same calibration.
+  edgeSamples_ = 33;
+  edgeStep_ = h_ / (edgeSamples_ - 1);
+  edge_.assign(size_t(edgeSamples_) * edgeSamples_, Edge{});
+  for (int s1 = 0; s1 < edgeSamples_; ++s1)
+    for (int s2 = 0; s2 < edgeSamples_; ++s2) {
+      const double d1 = s1 * edgeStep_, d2 = s2 * edgeStep_;
+      double rho = 0.0, g1 = 0.0, g2 = 0.0;
+      for (int o = 0; o < lateral; ++o)
+        for (int i = 0; i <= reach; ++i)
+          for (int j = 0; j <= reach; ++j)
+            for (int k = -reach; k <= reach; ++k) {
+              const double a1 = d1 + (i + 0.5) * spacing, a2 = d2 + (j + 0.5) * spacing;
+              const double a3 = (k + (o + 0.5) / lateral) * spacing;
+              const double r = std::sqrt(a1 * a1 + a2 * a2 + a3 * a3);
+              if (r >= h_) continue;
+              rho += poly6(float(r));
+              const double dw = -spiky.derivative(float(r));
+              g1 += dw * a1 / r;
+              g2 += dw * a2 / r;
+            }
+      Edge& e = edge_[size_t(s1) * edgeSamples_ + size_t(s2)];
+      e.density = float(particleMass * scale * rho / lateral);
+      e.gradient1 = float(particleMass * scale * g1 / lateral);
+      e.gradient2 = float(particleMass * scale * g2 / lateral);
+    }
+
+}
+
+WallWeights::Edge WallWeights::edge(float d1, float d2) const {
+  if (d1 >= h_ || d2 >= h_) return {};
+  const float u = std::max(d1, 0.0f) / edgeStep_, v = std::max(d2, 0.0f) / edgeStep_;
+  const size_t i = std::min(size_t(u), size_t(edgeSamples_ - 2)), j = std::min(size_t(v), size_t(edgeSamples_ - 2));
+  const float fu = u - float(i), fv = v - float(j);
+  const size_t n = size_t(edgeSamples_);
+  const Edge& e00 = edge_[i * n + j];
+  const Edge& e10 = edge_[(i + 1) * n + j];
+  const Edge& e01 = edge_[i * n + j + 1];
+  const Edge& e11 = edge_[(i + 1) * n + j + 1];
+  auto mix = [&](float Edge::*field) {
+    return (1 - fu) * (1 - fv) * e00.*field + fu * (1 - fv) * e10.*field + (1 - fu) * fv * e01.*field +
+           fu * fv * e11.*field;
+  };
+  return {mix(&Edge::density), mix(&Edge::gradient1), mix(&Edge::gradient2)};
 }
 
 float WallWeights::lookup(const std::vector<float>& table, float d) const {
