@@ -169,3 +169,26 @@ TEST(Schema, DescribesEveryKeyWithDefaultsAndRanges) {
   EXPECT_EQ(schema["properties"]["container"]["properties"]["walls"]["enum"], json({"no_slip", "free_slip"}));
   EXPECT_NE(std::find(schema["required"].begin(), schema["required"].end(), "container"), schema["required"].end());
 }
+
+TEST(SceneFile, FixedStepAboveTheStabilityBoundWarnsOrFailsWithStrict) {
+  test::TempDir dir;
+  json scene = baseScene();
+  scene["time_step"] = {{"mode", "fixed"}, {"fixed_step", 0.5}};
+  scene["output"] = {{"duration", 0.5}, {"fps", 2}};
+  const auto file = dir.path() / "big_step.json";
+  writeTextAtomic(file, scene.dump(2));
+  const auto out = dir.path() / "out";
+  EXPECT_EQ(test::runKurage("sim " + file.string() + " -o " + out.string() + " --strict", dir.path() / "strict.txt"), 2);
+  EXPECT_FALSE(std::filesystem::exists(out));
+  const std::string strict = readText(dir.path() / "strict.txt");
+  EXPECT_NE(strict.find("time_step.fixed_step: the fixed step"), std::string::npos) << strict;
+  EXPECT_NE(strict.find("cfl stability bound"), std::string::npos) << strict;
+  // Without --strict it is a warning naming the bound, and the run goes on (here it stops with a
+  // clear error once the state becomes non-finite, or finishes: either way it says so).
+  const int code = test::runKurage("sim " + file.string() + " -o " + out.string(), dir.path() / "warn.txt");
+  const std::string warn = readText(dir.path() / "warn.txt");
+  EXPECT_NE(warn.find("warning: " + file.string() + ": time_step.fixed_step"), std::string::npos) << warn;
+  if (code != 0) {
+    EXPECT_NE(warn.find("simulation stopped"), std::string::npos) << warn;
+  }
+}
