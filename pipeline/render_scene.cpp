@@ -10,6 +10,31 @@
 
 namespace kurage::pipeline {
 
+render::TriangleMesh tankMesh(const Scene& scene, const Eigen::Vector3f& eye) {
+  const sim::ContainerParams& box = scene.sim.container;
+  const float top = scene.render.tank.height > 0.0f ? box.min.z() + scene.render.tank.height : box.max.z();
+  render::TriangleMesh mesh;
+  for (int axis = 0; axis < 2; ++axis)
+    for (int side = 0; side < 2; ++side) {
+      const float c = side == 0 ? box.min[axis] : box.max[axis];
+      const bool seenFromInside = side == 0 ? eye[axis] > c : eye[axis] < c;
+      if (!seenFromInside) continue;
+      const int other = 1 - axis;
+      const int base = int(mesh.positions.size());
+      for (const auto& [u, z] : {std::pair{box.min[other], box.min.z()}, std::pair{box.max[other], box.min.z()},
+                                 std::pair{box.max[other], top}, std::pair{box.min[other], top}}) {
+        Eigen::Vector3f v;
+        v[axis] = c;
+        v[other] = u;
+        v.z() = z;
+        mesh.positions.push_back(v);
+      }
+      mesh.triangles.emplace_back(base, base + 1, base + 2);
+      mesh.triangles.emplace_back(base, base + 2, base + 3);
+    }
+  return mesh;
+}
+
 render::RenderScene makeRenderScene(const Scene& scene, double time) {
   const RenderParams& p = scene.render;
   render::RenderScene out;
@@ -24,6 +49,13 @@ render::RenderScene makeRenderScene(const Scene& scene, double time) {
   out.environment.up = Eigen::Vector3f::UnitZ();
   out.environment.intensity = p.environment.intensity;
   out.environment.rotationDegrees = p.environment.rotation;
+  if (p.tank.enabled) {
+    auto tank = std::make_shared<render::TriangleMesh>(tankMesh(scene, out.camera.position));
+    if (!tank->triangles.empty()) {
+      out.meshes.push_back({tank.get(), p.tank.material});
+      out.ownedMeshes.push_back(std::move(tank));
+    }
+  }
   if (p.environment.type == render::EnvironmentType::Image)
     out.environment.image = std::make_shared<const render::Image>(render::readPng(p.environment.image));
   return out;

@@ -49,6 +49,20 @@ struct ParticleDisplayParams {
   float rangeMax = 0.0f;  // ... and to its end; max <= min picks the frame's own range
 };
 
+// The container's walls drawn as a tank: the walls the camera looks at from inside (never the
+// ones between the camera and the fluid), open at the top; the floor is the ground.
+struct TankParams {
+  bool enabled = false;
+  float height = 0.0f;  // metres above container.min.z; 0 = the container's height
+  render::Material material = [] {
+    render::Material m;
+    m.albedo = {0.7f, 0.7f, 0.68f};
+    m.albedoB = {0.45f, 0.45f, 0.43f};
+    m.checkerSize = 2.0f;
+    return m;
+  }();
+};
+
 struct RenderParams {
   render::RenderSettings settings;  // resolution, samples, depth, seed, alpha (flat in the JSON)
   int bitDepth = 8;                 // PNG bits per channel, 8 or 16
@@ -58,7 +72,15 @@ struct RenderParams {
   std::vector<render::RectLight> areaLights;
   EnvironmentParams environment;
   render::Ground ground;
-  render::Material fluidMaterial{render::MaterialType::Dielectric, {0.25f, 0.45f, 0.85f}, 1.33f, {0.12f, 0.04f, 0.02f}};
+  render::Material fluidMaterial = [] {
+    render::Material m;
+    m.type = render::MaterialType::Dielectric;
+    m.albedo = {0.25f, 0.45f, 0.85f};
+    m.ior = 1.33f;
+    m.absorption = {0.12f, 0.04f, 0.02f};
+    return m;
+  }();
+  TankParams tank;
   render::ClipPlane clip;
   ParticleDisplayParams particles;
 };

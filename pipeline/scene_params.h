@@ -177,6 +177,16 @@ void describe(V& v, render::Material& p) {
   v.value("absorption", p.absorption,
           {"1/m", "Beer-Lambert absorption coefficient inside (RGB): light keeps exp(-absorption * distance)",
            nonNegative()});
+  v.value("checker_size", p.checkerSize,
+          {"m", "3-D checker texture: cells of this size alternate albedo and albedo_b; 0 = plain", nonNegative()});
+  v.value("albedo_b", p.albedoB, {"", "second checker colour (RGB)", between(0.0, 1.0)});
+}
+
+template <class V>
+void describe(V& v, TankParams& p) {
+  v.value("enabled", p.enabled, {"", "draw the container's walls that the camera sees from inside (open top)"});
+  v.value("height", p.height, {"m", "wall height above container.min; 0 = the container's height", nonNegative()});
+  v.object("material", p.material, {"", "wall material (default: a diffuse checker)"});
 }
 
 template <class V>
@@ -227,6 +237,7 @@ void describe(V& v, RenderParams& p) {
   v.object("environment", p.environment, {"", "radiance from directions that hit nothing: sky"});
   v.object("ground", p.ground, {"", "infinite diffuse checker ground plane"});
   v.object("fluid_material", p.fluidMaterial, {"", "material of the fluid surface (default: water)"});
+  v.object("tank", p.tank, {"", "the container's walls, drawn"});
   v.object("clip", p.clip, {"", "clip plane for cross-section views"});
   v.object("particles", p.particles, {"", "particles drawn as spheres, for figures that explain the method"});
 }

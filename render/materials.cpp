@@ -89,6 +89,12 @@ bool sampleInterface(const Material& m, const Vector3f& albedo, const Vector3f& 
 
 }  // namespace
 
+Vector3f checkerAlbedo(const Material& m, const Vector3f& albedo, const Vector3f& p) {
+  if (!(m.checkerSize > 0.0f)) return albedo;
+  const double cells = std::floor(p.x() / m.checkerSize) + std::floor(p.y() / m.checkerSize) + std::floor(p.z() / m.checkerSize);
+  return std::fmod(std::abs(cells), 2.0) == 0.0 ? albedo : m.albedoB;
+}
+
 float fresnelDielectric(float cosI, float etaI, float etaT) {
   cosI = std::clamp(cosI, 0.0f, 1.0f);
   const float sinT = etaI / etaT * std::sqrt(std::max(0.0f, 1.0f - cosI * cosI));

@@ -11,6 +11,7 @@
 //                (probability 1 - F, weight `albedo` = the tint). Closed surfaces of it glow
 //                through like wax or gel; with albedo 1 it loses no energy.
 //   mirror       a smooth conductor: perfect reflection with colour `albedo` (the reflectance).
+// Any of them may carry a 3-D checker texture on `albedo` (floors, tank walls).
 //
 // Conventions: directions are unit vectors pointing away from the surface (wo towards the
 // viewer, wi towards the light); `ng` is the geometric normal pointing out of the object (for
@@ -29,7 +30,14 @@ struct Material {
   Eigen::Vector3f albedo{0.8f, 0.8f, 0.8f};   // diffuse reflectance, translucent tint, mirror reflectance; [0,1]
   float ior = 1.33f;                           // index of refraction (dielectric, translucent)
   Eigen::Vector3f absorption{0.0f, 0.0f, 0.0f};  // 1/m, Beer-Lambert coefficient inside (dielectric, translucent)
+  // A 3-D checker texture for diffuse surfaces: cells of checkerSize metres alternate between
+  // albedo and albedoB (by the parity of floor(x/s) + floor(y/s) + floor(z/s)); 0 = plain.
+  float checkerSize = 0.0f;
+  Eigen::Vector3f albedoB{0.4f, 0.4f, 0.4f};
 };
+
+// The albedo at world point p: `albedo` or, with a checker, albedo/albedoB by cell parity.
+Eigen::Vector3f checkerAlbedo(const Material& m, const Eigen::Vector3f& albedo, const Eigen::Vector3f& p);
 
 // Unpolarised Fresnel reflectance of a smooth interface; cosI = cos of the incidence angle
 // (> 0) on the side with index etaI, the other side has etaT. 1 under total internal reflection.

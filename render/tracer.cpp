@@ -71,7 +71,8 @@ void throwIfError(RTCDevice device, EmbreeErrors& errors, const char* what) {
 void checkMaterial(const Material& m, const std::string& name) {
   if (!(m.ior >= 1.0f && m.ior <= 4.0f)) throw std::invalid_argument(name + ": ior must be in [1, 4]");
   if (!(m.absorption.minCoeff() >= 0.0f)) throw std::invalid_argument(name + ": absorption must be >= 0");
-  if (!(m.albedo.minCoeff() >= 0.0f && m.albedo.maxCoeff() <= 1.0f))
+  if (!(m.albedo.minCoeff() >= 0.0f && m.albedo.maxCoeff() <= 1.0f && m.albedoB.minCoeff() >= 0.0f &&
+        m.albedoB.maxCoeff() <= 1.0f))
     throw std::invalid_argument(name + ": albedo must be in [0, 1]");
 }
 
@@ -238,7 +239,7 @@ Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction,
         if (hit.ns.dot(hit.ng) < 0.0f) hit.ng = -hit.ng;  // trust the level set's outward gradient
       }
       hit.material = &g.mesh->material;
-      hit.albedo = g.mesh->material.albedo;
+      hit.albedo = checkerAlbedo(g.mesh->material, g.mesh->material.albedo, hit.point);
     } else {
       const SphereSet& set = *g.spheres;
       hit.ng = (hit.point - set.centres[primID]).normalized();

@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,7 @@ struct SphereSet {
 
 struct RenderScene {
   std::vector<SceneObject> meshes;
+  std::vector<std::shared_ptr<const TriangleMesh>> ownedMeshes;  // keeps meshes built with the scene alive
   std::vector<SphereSet> spheres;
   Camera camera;
   SunLight sun;

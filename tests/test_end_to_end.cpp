@@ -14,6 +14,8 @@
 // (image_test.h).
 #include "pipeline/files.h"
 #include "pipeline/particle_cache.h"
+#include "pipeline/render_scene.h"
+#include "pipeline/scene.h"
 #include "image_test.h"
 #include "render/image.h"
 #include "test_util.h"
@@ -189,4 +191,24 @@ TEST(Still, BadInputIsRefusedAndWritesNothing) {
   EXPECT_FALSE(fs::exists(still));
   for (const auto& entry : fs::directory_iterator(dir.path()))
     EXPECT_EQ(entry.path().extension(), ".txt") << "wrote " << entry.path();
+}
+
+TEST(Tank, OnlyWallsSeenFromInsideAreDrawn) {
+  // The tiny scene's container is [0,16] x [0,5] x [0,10]; from the eye (8, -22, 12) the wall
+  // y = 0 stands between the eye and the fluid and is left out; y = 5, x = 0 and x = 16 are drawn.
+  pipeline::Scene scene = pipeline::loadScene(test::sourceDir() / "tests/scenes/tiny_dam_break.json");
+  scene.render.tank.enabled = true;
+  scene.render.tank.height = 4.0f;
+  const render::TriangleMesh mesh = pipeline::tankMesh(scene, {8, -22, 12});
+  ASSERT_EQ(mesh.triangles.size(), 6u);
+  int onFrontPlane = 0;  // the side walls touch y = 0 with two corners each; the front wall would add 4
+  for (const Eigen::Vector3f& p : mesh.positions) {
+    onFrontPlane += p.y() == 0.0f;
+    EXPECT_TRUE(p.z() == 0.0f || p.z() == 4.0f) << p.z();
+  }
+  EXPECT_EQ(onFrontPlane, 4) << "the front wall is not drawn";
+  const render::RenderScene view = pipeline::makeRenderScene(scene, 0.0);
+  ASSERT_EQ(view.meshes.size(), 1u);
+  EXPECT_EQ(view.meshes[0].mesh->triangles.size(), 6u);
+  EXPECT_GT(view.meshes[0].material.checkerSize, 0.0f);
 }

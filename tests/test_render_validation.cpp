@@ -225,3 +225,31 @@ TEST(Refraction, GlassSlabShiftsTheCheckerboardBySnellsLaw) {
   EXPECT_EQ(snellMatches, checked) << "rows whose colour Snell's law does not predict";
   EXPECT_GT(straightMismatches, 10) << "the slab should shift the pattern visibly";
 }
+
+TEST(FurnaceChecker, CheckerTexturedMeshShowsItsTwoAlbedos) {
+  // A diffuse quad (a tank wall) with a 3-D checker of 1 m cells in the furnace: one bounce,
+  // then the environment, so every pixel is exactly one of the two albedos, and both appear.
+  kr::TriangleMesh wall;
+  wall.positions = {{-3, 0.5f, -3}, {3, 0.5f, -3}, {3, 0.5f, 3}, {-3, 0.5f, 3}};
+  wall.triangles = {{0, 1, 2}, {0, 2, 3}};
+  kr::Material m = makeMaterial(kr::MaterialType::Diffuse, {0.7f, 0.7f, 0.7f});
+  m.checkerSize = 1.0f;
+  m.albedoB = {0.2f, 0.4f, 0.6f};
+  kr::RenderScene scene = furnace();
+  scene.meshes.push_back({&wall, m});
+  kr::RenderSettings settings;
+  settings.width = 32;
+  settings.height = 32;
+  settings.samplesPerPixel = 1;
+  const kr::Image image = kr::renderFrame(scene, settings);
+  int a = 0, b = 0;
+  for (int y = 0; y < 32; ++y)
+    for (int x = 0; x < 32; ++x) {
+      const Vector3f v = image.at(x, y).head<3>();
+      if ((v - m.albedo).norm() < 1e-5f) ++a;
+      else if ((v - m.albedoB).norm() < 1e-5f) ++b;
+      else ADD_FAILURE() << "pixel " << x << "," << y << ": " << v.transpose();
+    }
+  EXPECT_GT(a, 200);
+  EXPECT_GT(b, 200);
+}
