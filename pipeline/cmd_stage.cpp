@@ -33,18 +33,28 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
     if (name == "sim") std::printf("Simulates only: OUT/particles/NNNN.vdb.\n\n");
     if (name == "surface") std::printf("Metaball level sets from OUT/particles: OUT/surfaces/NNNN.vdb.\n\n");
     if (name == "render") std::printf("Frames from OUT/surfaces: OUT/frames/NNNN.png.\n\n");
-    std::printf("options:\n%s  --strict           a fixed time step above the scene's stability bound is an error\n",
+    std::printf("options:\n%s  --strict           a fixed time step above the scene's stability bound is an error\n"
+                "  --width W, --height H, --spp N, --max-depth D\n"
+                "                     override the scene's render resolution, samples per pixel and path depth\n",
                 kStageOptionsHelp);
     return 0;
   }
   const bool strict = args.flag({"--strict"});
+  const std::optional<int> width = args.intOption({"--width"}, 1, 16384);
+  const std::optional<int> height = args.intOption({"--height"}, 1, 16384);
+  const std::optional<int> spp = args.intOption({"--spp"}, 1, 65536);
+  const std::optional<int> depth = args.intOption({"--max-depth"}, 1, 1024);
   const StageCommandOptions options = parseStageOptions(args, true);
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one SCENE");
   const std::string& sceneFile = positional[0];
 
   // Everything is validated before the output folder is touched.
-  const Scene scene = loadScene(sceneFile);
+  Scene scene = loadScene(sceneFile);
+  if (width) scene.render.settings.width = *width;
+  if (height) scene.render.settings.height = *height;
+  if (spp) scene.render.settings.samplesPerPixel = *spp;
+  if (depth) scene.render.settings.maxDepth = *depth;
   frameRange(scene, options.stage);
   checkFixedStep(scene, sceneFile, strict);
 

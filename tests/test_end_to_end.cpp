@@ -212,3 +212,19 @@ TEST(Tank, OnlyWallsSeenFromInsideAreDrawn) {
   EXPECT_EQ(view.meshes[0].mesh->triangles.size(), 6u);
   EXPECT_GT(view.meshes[0].material.checkerSize, 0.0f);
 }
+
+TEST(EndToEnd, QualityOptionsOverrideTheScene) {
+  test::TempDir dir;
+  const fs::path scene = test::sourceDir() / "tests/scenes/tiny_dam_break.json";
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() +
+                            " --frames 0-0 --width 40 --height 30 --spp 2 --max-depth 3", dir.path() / "log.txt"), 0)
+      << pipeline::readText(dir.path() / "log.txt");
+  const render::Image image = render::readPng(out / "frames/0000.png");
+  EXPECT_EQ(image.width(), 40);
+  EXPECT_EQ(image.height(), 30);
+  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  EXPECT_EQ(run["parameters"]["render"]["samples"], 2);
+  EXPECT_EQ(run["parameters"]["render"]["max_depth"], 3);
+  EXPECT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --spp 0", dir.path() / "log.txt"), 2);
+}
