@@ -191,9 +191,15 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
   for (int f = first; f <= last; ++f) requireFile(frameFile(inFolder, f, "vdb"), "surface");
   fs::create_directories(outFolder);
   Progress progress("render", last - first + 1, options.progress);
+  uint64_t primaryRays = 0, totalRays = 0;
+  double traceSeconds = 0.0;
   for (int f = first; f <= last; ++f) {
+    render::RenderStats stats;
     const render::Image image =
-        renderSurfaces(scene, render::readLevelSets(frameFile(inFolder, f, "vdb")), scene.output.frameTime(f));
+        renderSurfaces(scene, render::readLevelSets(frameFile(inFolder, f, "vdb")), scene.output.frameTime(f), &stats);
+    primaryRays += stats.primaryRays;
+    totalRays += stats.totalRays;
+    traceSeconds += stats.seconds;
     render::writePng(image, frameFile(outFolder, f, "png"), scene.render.settings.transparentBackground,
                      scene.render.bitDepth);
     progress.advance(f - first + 1);
@@ -203,7 +209,12 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
                              {"frames", {first, last}},
                              {"width", scene.render.settings.width},
                              {"height", scene.render.settings.height},
-                             {"samples", scene.render.settings.samplesPerPixel}});
+                             {"samples", scene.render.settings.samplesPerPixel},
+                             {"max_depth", scene.render.settings.maxDepth},
+                             {"primary_rays", primaryRays},
+                             {"total_rays", totalRays},
+                             {"trace_seconds", traceSeconds},
+                             {"total_mrays_per_s", traceSeconds > 0.0 ? double(totalRays) / traceSeconds * 1e-6 : 0.0}});
   record.save();
 }
 

@@ -226,5 +226,7 @@ TEST(EndToEnd, QualityOptionsOverrideTheScene) {
   const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   EXPECT_EQ(run["parameters"]["render"]["samples"], 2);
   EXPECT_EQ(run["parameters"]["render"]["max_depth"], 3);
+  EXPECT_EQ(run["stages"]["render"]["primary_rays"], 40 * 30 * 2) << "one camera ray per sample";
+  EXPECT_GT(run["stages"]["render"]["total_rays"], 40 * 30 * 2);
   EXPECT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --spp 0", dir.path() / "log.txt"), 2);
 }
