@@ -2,10 +2,13 @@
 // the colour they were given; empty input is background only; frames are deterministic; a
 // nearer sphere hides a farther one.
 #include "render/preview.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 namespace kurage::render {
 namespace {
@@ -158,6 +161,44 @@ TEST(Preview, RejectsMismatchedInput) {
   PreviewCamera degenerate = testCamera();
   degenerate.lookAt = degenerate.position;
   EXPECT_THROW(renderer.render(knownSpheres(), degenerate, testSettings()), std::invalid_argument);
+}
+
+std::string readFile(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(PreviewCommand, DrawsEveryCachedFrameAndNamesTheMissingStage) {
+  const test::TempDir dir;
+  const std::string scene = (test::sourceDir() / "tests/scenes/tiny_dam_break.json").string();
+  const std::filesystem::path out = dir.path() / "out", log = dir.path() / "log.txt";
+  EXPECT_EQ(test::runKurage("preview " + scene + " -o " + out.string(), log), 1);
+  EXPECT_NE(readFile(log).find("kurage sim"), std::string::npos) << readFile(log);
+
+  ASSERT_EQ(test::runKurage("sim " + scene + " -o " + out.string(), log), 0) << readFile(log);
+  ASSERT_EQ(test::runKurage("preview " + scene + " -o " + out.string() + " --width 80 --height 60 --color speed", log), 0)
+      << readFile(log);
+  for (int f = 0; f < 5; ++f) {  // the scene has 5 frames
+    char name[16];
+    std::snprintf(name, sizeof name, "%04d.png", f);
+    const Image image = readPng(out / "preview" / name);
+    EXPECT_EQ(image.width(), 80);
+    EXPECT_EQ(image.height(), 60);
+    // Spheres (any colour: by speed here) over a plain background, which fills the corners.
+    const Eigen::Vector3f background = image.at(0, 0).head<3>();
+    size_t coloured = 0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) coloured += !isBackground(image, x, y, background);
+    EXPECT_GT(coloured, 20u) << name;
+    EXPECT_TRUE(isBackground(image, image.width() - 1, image.height() - 1, background)) << name;
+  }
+  const std::string printed = readFile(log);
+  if (printed.find("ffmpeg is not on the PATH") == std::string::npos) {
+    EXPECT_GT(std::filesystem::file_size(out / "preview.mp4"), 1000u) << printed;
+    EXPECT_FALSE(std::filesystem::exists(out / "preview.mp4.tmp"));
+  }
 }
 
 }  // namespace
