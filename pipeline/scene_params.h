@@ -225,6 +225,9 @@ void describe(V& v, RenderParams& p) {
   v.value("max_depth", p.settings.maxDepth,
           {"", "most scattering events on a path (1 = direct light only); water needs about 8", between(1, 1024)});
   v.value("seed", p.settings.seed, {"", "random seed: another seed gives another noise pattern", between(0, 2147483647)});
+  v.value("transmissive_shadows", p.settings.transmissiveShadows,
+          {"", "shadow rays pass through water and glass (Fresnel transmission and absorption, without "
+               "bending): far less noise under water, no caustics; false = exact light transport"});
   v.value("transparent_background", p.settings.transparentBackground,
           {"", "PNG with alpha: the environment is not seen directly, only in reflections and lighting"});
   v.value("bit_depth", p.bitDepth, {"", "PNG bits per channel, 8 or 16", between(8, 16)});

@@ -35,6 +35,7 @@ using Eigen::Vector3f;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 constexpr int kTileSize = 16;
 constexpr int kMaxClipSkips = 64;  // clipped hits skipped along one ray before giving up
+constexpr int kMaxShadowCrossings = 16;  // dielectric surfaces a shadow ray may pass
 
 // The first error Embree reports through the device's error callback (any thread).
 struct EmbreeErrors {
@@ -216,39 +217,46 @@ Vector3f groundAlbedo(const Frame& f, const Vector3f& point) {
   return std::fmod(std::abs(cells), 2.0) == 0.0 ? g.albedoA : g.albedoB;
 }
 
+// The surface hit at distance t along the ray on Embree geometry geomID / primID.
+Hit embreeHit(const Frame& f, const Vector3f& origin, const Vector3f& direction, float t, unsigned geomID,
+              unsigned primID, float u, float v) {
+  Hit hit;
+  hit.kind = Hit::Surface;
+  hit.t = t;
+  hit.point = origin + t * direction;
+  const Geometry& g = f.geometries[geomID];
+  if (g.mesh) {
+    const TriangleMesh& mesh = *g.mesh->mesh;
+    const Eigen::Vector3i& tri = mesh.triangles[primID];
+    const Vector3f& p0 = mesh.positions[tri[0]];
+    hit.ng = (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0).normalized();  // CCW: outward
+    hit.ns = hit.ng;
+    if (!mesh.normals.empty()) {  // smooth shading: barycentric interpolation of vertex normals
+      const Vector3f n = (1.0f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
+      if (n.squaredNorm() > 0.0f) hit.ns = n.normalized();
+      if (hit.ns.dot(hit.ng) < 0.0f) hit.ng = -hit.ng;  // trust the level set's outward gradient
+    }
+    hit.material = &g.mesh->material;
+    hit.albedo = checkerAlbedo(g.mesh->material, g.mesh->material.albedo, hit.point);
+  } else {
+    const SphereSet& set = *g.spheres;
+    hit.ng = (hit.point - set.centres[primID]).normalized();
+    hit.ns = hit.ng;
+    hit.material = &set.material;
+    hit.albedo = set.colours.empty() ? set.material.albedo : set.colours[primID];
+  }
+  if (!hit.ng.allFinite()) hit.ng = hit.ns = -direction;
+  return hit;
+}
+
 // Closest hit among Embree geometry, the ground and the area lights.
 Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction, RTCIntersectContext& context,
               Counters& counters) {
   Hit hit;
   float t, u, v;
   unsigned geomID, primID;
-  if (intersectEmbree(f, origin, direction, 0.0f, kInfinity, context, counters, t, geomID, primID, u, v)) {
-    hit.kind = Hit::Surface;
-    hit.t = t;
-    hit.point = origin + t * direction;
-    const Geometry& g = f.geometries[geomID];
-    if (g.mesh) {
-      const TriangleMesh& mesh = *g.mesh->mesh;
-      const Eigen::Vector3i& tri = mesh.triangles[primID];
-      const Vector3f& p0 = mesh.positions[tri[0]];
-      hit.ng = (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0).normalized();  // CCW: outward
-      hit.ns = hit.ng;
-      if (!mesh.normals.empty()) {  // smooth shading: barycentric interpolation of vertex normals
-        const Vector3f n = (1.0f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
-        if (n.squaredNorm() > 0.0f) hit.ns = n.normalized();
-        if (hit.ns.dot(hit.ng) < 0.0f) hit.ng = -hit.ng;  // trust the level set's outward gradient
-      }
-      hit.material = &g.mesh->material;
-      hit.albedo = checkerAlbedo(g.mesh->material, g.mesh->material.albedo, hit.point);
-    } else {
-      const SphereSet& set = *g.spheres;
-      hit.ng = (hit.point - set.centres[primID]).normalized();
-      hit.ns = hit.ng;
-      hit.material = &set.material;
-      hit.albedo = set.colours.empty() ? set.material.albedo : set.colours[primID];
-    }
-    if (!hit.ng.allFinite()) hit.ng = hit.ns = -direction;
-  }
+  if (intersectEmbree(f, origin, direction, 0.0f, kInfinity, context, counters, t, geomID, primID, u, v))
+    hit = embreeHit(f, origin, direction, t, geomID, primID, u, v);
   const Ground& ground = f.input->ground;
   if (ground.enabled) {
     const float denominator = direction.dot(f.groundNormal);
@@ -284,6 +292,33 @@ Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction,
   return hit;
 }
 
+// Fraction of light that reaches `origin` along `direction` from distance tfar. Opaque hits
+// give 0. With transmissive shadows, dielectric surfaces let (1 - F) through at each crossing
+// and absorb exp(-absorption * length) inside, the ray going straight on (no refraction).
+Vector3f transmittance(const Frame& f, Vector3f origin, const Vector3f& direction, float tfar,
+                       RTCIntersectContext& context, Counters& counters) {
+  if (!f.settings->transmissiveShadows)
+    return occluded(f, origin, direction, tfar, context, counters) ? Vector3f::Zero() : Vector3f::Ones();
+  Vector3f through = Vector3f::Ones();
+  for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
+    float t, u, v;
+    unsigned geomID, primID;
+    if (!intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, t, geomID, primID, u, v)) return through;
+    const Hit hit = embreeHit(f, origin, direction, t, geomID, primID, u, v);
+    const Material& m = *hit.material;
+    if (m.type != MaterialType::Dielectric) return Vector3f::Zero();
+    const float cosine = direction.dot(hit.ng);
+    const bool leaving = cosine > 0.0f;  // the segment just travelled was inside
+    through *= 1.0f - (leaving ? fresnelDielectric(cosine, m.ior, 1.0f) : fresnelDielectric(-cosine, 1.0f, m.ior));
+    if (leaving) through = through.cwiseProduct((-m.absorption * t).array().exp().matrix());
+    if (through.maxCoeff() <= 0.0f) return Vector3f::Zero();
+    origin = hit.point + (leaving ? f.epsilon : -f.epsilon) * hit.ng;
+    tfar = tfar == kInfinity ? kInfinity : tfar - t;
+    if (!(tfar > 0.0f)) return through;
+  }
+  return Vector3f::Zero();
+}
+
 // Direct light from the sun and the area lights at a non-specular vertex (one sample each).
 Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSampler& rng,
                      RTCIntersectContext& context, Counters& counters) {
@@ -298,8 +333,9 @@ Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSa
   if (f.sunOn) {
     const Vector3f wi = f.sunCosMax < 1.0f ? sampleCone(f.toSun, f.sunCosMax, u1, u2) : f.toSun;
     const Vector3f fcos = evaluateDiffuseLobe(material, hit.albedo, wo, wi, hit.ns, hit.ng);
-    if (fcos.maxCoeff() > 0.0f && !occluded(f, origin(wi), wi, kInfinity, context, counters))
-      sum += fcos.cwiseProduct(f.input->sun.irradiance);
+    if (fcos.maxCoeff() > 0.0f)
+      sum += fcos.cwiseProduct(f.input->sun.irradiance)
+                 .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters));
   }
   // Area lights: a uniform point on each; pdf 1 / area converted to solid angle.
   for (const RectLight& l : f.input->rectLights) {
@@ -315,8 +351,10 @@ Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSa
     const float cosLight = -wi.dot(normal) / area;
     if (cosLight <= 0.0f) continue;
     const Vector3f fcos = evaluateDiffuseLobe(material, hit.albedo, wo, wi, hit.ns, hit.ng);
-    if (fcos.maxCoeff() > 0.0f && !occluded(f, origin(wi), wi, distance * (1.0f - 1e-4f), context, counters))
-      sum += fcos.cwiseProduct(l.radiance) * (cosLight * area / distance2);
+    if (fcos.maxCoeff() > 0.0f)
+      sum += fcos.cwiseProduct(l.radiance).cwiseProduct(
+                 transmittance(f, origin(wi), wi, distance * (1.0f - 1e-4f), context, counters)) *
+             (cosLight * area / distance2);
   }
   return sum;
 }
@@ -330,6 +368,7 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
   Vector3f throughput = Vector3f::Ones();
   Vector3f absorption = Vector3f::Zero();  // of the medium the ray travels in (0: air)
   bool specular = true;                    // the camera counts as a specular vertex
+  bool cameraChain = true;                 // every vertex so far was specular
   hitSomething = false;
   for (int depth = 0;; ++depth) {
     const Hit hit = intersect(f, origin, direction, context, counters);
@@ -361,7 +400,11 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
     const float u1 = rng.next(), u2 = rng.next(), u3 = rng.next();
     if (!sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, u1, u2, u3, s)) break;
     throughput = throughput.cwiseProduct(s.weight);
-    specular = s.specular;
+    // With transmissive shadows, light behind a diffuse vertex and a chain of specular ones was
+    // already estimated by the shadow ray through the dielectric: count lights on hit only for
+    // pure specular chains from the camera.
+    specular = s.specular && (cameraChain || !settings.transmissiveShadows);
+    cameraChain = cameraChain && s.specular;
     if (s.transmitted && hit.material) {  // crossing the surface: entering if wo was outside
       const bool entering = wo.dot(hit.ng) > 0.0f;
       absorption = entering ? material.absorption : Vector3f::Zero();

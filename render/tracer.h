@@ -6,9 +6,10 @@
 //
 // The integrator is a unidirectional path tracer with next-event estimation for the sun and the
 // area lights at every non-specular vertex, Russian roulette once a path's throughput falls
-// below 1 (from the fourth vertex on), and a hard maximum number of scattering events. Light
+// below 1 (from the third bounce on), and a hard maximum number of scattering events. Light
 // sources are added on hit only after a specular bounce or at the camera, so no path is counted
-// twice. Beer-Lambert absorption attenuates paths inside dielectric and translucent objects.
+// twice. By default shadow rays pass through dielectrics (RenderSettings::transmissiveShadows).
+// Beer-Lambert absorption attenuates paths inside dielectric and translucent objects.
 //
 // Every random number is a pure function of (pixel, sample, dimension, seed) (sampling.h), so
 // the image depends only on the scene, the settings and the seed: not on the thread count or the
@@ -80,6 +81,11 @@ struct RenderSettings {
   int samplesPerPixel = 16;
   int maxDepth = 8;   // most scattering events on a path (1 = direct light only)
   int seed = 0;  // >= 0; another seed gives another, equally valid, noise pattern
+  // Shadow rays pass through dielectric surfaces (Fresnel transmission, absorption, no bending),
+  // and light sources are then counted on hit only after pure specular chains from the camera:
+  // the light under water is far less noisy, at the price of caustics. false = exact transport
+  // (caustics only from the sun's disk, noisy).
+  bool transmissiveShadows = true;
   bool transparentBackground = false;  // alpha = fraction of camera rays that hit something;
                                        // the environment is then not seen directly
 };

@@ -415,3 +415,40 @@ TEST(Tracer, EnvironmentImageIsEquirectangularWithZUp) {
   e.rotationDegrees = 180.0f;  // the green column now spans azimuth [180, 225) degrees
   EXPECT_EQ(kr::environmentRadiance(e, Vector3f(-1, -0.2f, 0.3f).normalized()), Vector3f(0, 2, 0));
 }
+
+TEST(Tracer, TransmissiveShadowsPassWaterWithFresnelAndAbsorption) {
+  // A glass slab (n = 1.5, absorption 0.5 / m, 1 m thick, z in [1, 2]) over a white ground, a
+  // point sun straight down with E = pi, black sky, direct light only, and the camera below the
+  // slab: the ground under the slab gets E T / pi with T = (1 - F0)^2 exp(-0.5), F0 = 0.04
+  // (normal incidence in and out; no noise). The ray offset against self-intersection (1e-4 of
+  // the scene's size, 0.5 mm here) shortens the path inside by up to 1 mm: tolerance 5e-4.
+  // Without transmissive shadows the ground under the slab is black.
+  kr::TriangleMesh slab;
+  const float s = 5.0f;
+  slab.positions = {{-s, -s, 1}, {s, -s, 1}, {s, s, 1}, {-s, s, 1}, {-s, -s, 2}, {s, -s, 2}, {s, s, 2}, {-s, s, 2}};
+  slab.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  kr::Material glass;
+  glass.type = kr::MaterialType::Dielectric;
+  glass.ior = 1.5f;
+  glass.absorption = {0.5f, 0.5f, 0.5f};
+  kr::RenderScene scene = darkScene();
+  scene.meshes.push_back({&slab, glass});
+  scene.sun.direction = {0, 0, -1};
+  scene.sun.irradiance = {kPi, kPi, kPi};
+  scene.sun.angularDiameterDegrees = 0.0f;
+  scene.ground.enabled = true;
+  scene.ground.checkerSize = 0.0f;
+  scene.ground.albedoA = {1, 1, 1};
+  scene.camera.position = {0, -2, 0.5f};
+  scene.camera.lookAt = {0, 0, 0};
+  kr::RenderSettings settings;
+  settings.width = 3;
+  settings.height = 3;
+  settings.samplesPerPixel = 4;
+  settings.maxDepth = 1;
+  const float expected = 0.96f * 0.96f * std::exp(-0.5f);
+  EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), expected, 5e-4f);
+  settings.transmissiveShadows = false;
+  EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), 0.0f, 1e-6f);
+}
