@@ -3,6 +3,8 @@
 #include "pipeline/particle_cache.h"
 #include "render/surfacing.h"
 
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -20,23 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh, unique temporary directory, removed with everything in it at the end of the test.
-class TempDir {
-public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("kurage_test_cache_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
-private:
-  fs::path path_;
-};
+using kurage::test::TempDir;
 
 // n particles: a dense block plus outliers up to +-1000 m and tiny magnitudes, shuffled ids.
 ParticleFrame randomFrame(size_t n, unsigned seed) {

@@ -2,6 +2,8 @@
 // error reporting, atomic writes, the failing-fraction comparison and the sRGB curve.
 #include "render/image.h"
 
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -17,25 +19,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// A fresh, uniquely named directory under the system temp dir, removed on destruction.
-class TempDir {
-public:
-  TempDir() {
-    std::random_device random;
-    for (;;) {
-      path_ = fs::temp_directory_path() / ("kurage_test_image_" + std::to_string(random()));
-      if (fs::create_directory(path_)) break;
-    }
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
-private:
-  fs::path path_;
-};
+using kurage::test::TempDir;
 
 std::vector<char> readBytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

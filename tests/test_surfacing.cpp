@@ -4,6 +4,8 @@
 #include "render/surfacing.h"
 
 #include <Eigen/Geometry>
+#include "test_util.h"
+
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
 
@@ -29,24 +31,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh, unique temporary directory, removed with everything in it at the end of the test.
-class TempDir {
-public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() /
-            ("kurage_test_surfacing_" + std::to_string(::getpid()) + "_" + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
-private:
-  fs::path path_;
-};
+using kurage::test::TempDir;
 
 double analyticRadius(const MetaballParams& p) {
   return p.radius * std::sqrt(1.0 - std::sqrt(double(p.threshold) / p.strength));
