@@ -39,6 +39,10 @@ void describe(V& v, sim::FluidParams& p) {
                 {"", "'mueller2003': the paper's (5), -sum m_j (p_i + p_j) / (2 rho_j) grad W, which recovers only "
                      "half of grad p (a fluid at rest carries about twice the physical pressure); 'monaghan1992': "
                      "-rho_i sum m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W, consistent and momentum-conserving"});
+  v.value("gradient_correction", p.gradientCorrection,
+          {"", "with 'monaghan1992': correct each particle's kernel gradient (Bonet & Lok 1999) so that a linear "
+               "pressure field's gradient is exact on a disordered neighbourhood; particles within h of a wall or "
+               "at a free surface keep the plain gradient"});
 }
 
 template <class V>

@@ -1,5 +1,6 @@
 #include "sim/fluid.h"
 
+#include <Eigen/LU>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -58,10 +59,12 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
   const float* rho0 = particles.restDensity.data();
   float* p = particles.pressure.data();
   const bool clamp = negativePressure == NegativePressure::Clamp;
-  for (size_t i = 0; i < n; ++i) {
-    const float value = pressureStiffness * (rho[i] - rho0[i]);  // (4)
-    p[i] = clamp ? std::max(value, 0.0f) : value;
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 8192), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const float value = pressureStiffness * (rho[i] - rho0[i]);  // (4)
+      p[i] = clamp ? std::max(value, 0.0f) : value;
+    }
+  });
 }
 
 namespace {
@@ -69,7 +72,7 @@ namespace {
 template <PressureForce Form>
 void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                 const ViscosityKernel& viscosity, float dynamicViscosity, const Eigen::Vector3f& gravity,
-                const WallSums& walls) {
+                const WallSums& walls, const float* correction) {
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -119,6 +122,15 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
           press = 0.5f * mOverRho * (pi + p[j]) * t * t;
         else  // rho_i m_j (p_i / rho_i^2 + p_j / rho_j^2) (h - r)^2
           press = rhoI * m[j] * (piOverRho2 + p[j] / (rho[j] * rho[j])) * t * t;
+        if (correction) {
+          // (L_i + L_j) / 2 applied to the direction: Bonet & Lok's corrected, symmetrised gradient.
+          const float* a = correction + 6 * i;
+          const float* b = correction + 6 * size_t(j);
+          const float xx = 0.5f * (a[0] + b[0]), yy = 0.5f * (a[1] + b[1]), zz = 0.5f * (a[2] + b[2]);
+          const float xy = 0.5f * (a[3] + b[3]), xz = 0.5f * (a[4] + b[4]), yz = 0.5f * (a[5] + b[5]);
+          const float cx = xx * ux + xy * uy + xz * uz, cy = xy * ux + yy * uy + yz * uz, cz = xz * ux + yz * uy + zz * uz;
+          ux = cx; uy = cy; uz = cz;
+        }
         fpx += press * ux; fpy += press * uy; fpz += press * uz;
         // (6): mu m_j (v_j - v_i) / rho_j * 45/(pi h^6) (h - r)
         const float visc = mOverRho * t;
@@ -145,11 +157,47 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
 
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
-                              const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls) {
+                              const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
+                              const float* correction) {
   if (form == PressureForce::Mueller2003)
-    accelerate<PressureForce::Mueller2003>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls);
+    accelerate<PressureForce::Mueller2003>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls,
+                                           nullptr);
   else
-    accelerate<PressureForce::Monaghan1992>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls);
+    accelerate<PressureForce::Monaghan1992>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls,
+                                            correction);
+}
+
+void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet& particles, const SpikyKernel& spiky,
+                               const ContainerParams& box, std::vector<float>& correction) {
+  const size_t n = particles.size();
+  correction.resize(6 * n);
+  const float h = spiky.h;
+  const float* x = particles.x.data();
+  const float* y = particles.y.data();
+  const float* z = particles.z.data();
+  const float* m = particles.mass.data();
+  const float* rho = particles.density.data();
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 512), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) {
+      float* out = correction.data() + 6 * i;
+      out[0] = out[1] = out[2] = 1.0f;
+      out[3] = out[4] = out[5] = 0.0f;
+      const Eigen::Vector3f p(x[i], y[i], z[i]);
+      if (((p - box.min).array() < h).any() || ((box.max - p).array() < h).any()) continue;
+      Eigen::Matrix3f M = Eigen::Matrix3f::Zero();
+      for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it) {
+        const uint32_t j = *it;
+        const Eigen::Vector3f d(x[i] - x[j], y[i] - y[j], z[i] - z[j]);
+        const float r = d.norm();
+        if (r <= 1e-6f * h) continue;
+        M += (m[j] / rho[j] * -spiky.derivative(r) / r) * (d * d.transpose());
+      }
+      if (!(M.determinant() > 0.25f)) continue;
+      const Eigen::Matrix3f L = M.inverse();
+      out[0] = L(0, 0); out[1] = L(1, 1); out[2] = L(2, 2);
+      out[3] = L(0, 1); out[4] = L(0, 2); out[5] = L(1, 2);
+    }
+  });
 }
 
 float calibratedParticleMass(float spacing, float supportRadius, float restDensity) {

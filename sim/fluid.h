@@ -35,7 +35,15 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
 // result stays finite and symmetric.
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
-                              const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls);
+                              const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
+                              const float* correction = nullptr);
+
+// Per-particle kernel gradient correction matrices (symmetric 3x3, stored as xx, yy, zz, xy, xz,
+// yz per particle): L_i = M_i^-1 with M_i = sum_j V_j (-dW_spiky/dr / r) d d^T, d = r_i - r_j,
+// V_j = m_j / rho_j. The identity for particles within h of a container wall or whose M_i is
+// far from the identity (det < 0.25: a free surface or a sparse neighbourhood).
+void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet& particles, const SpikyKernel& spiky,
+                               const ContainerParams& box, std::vector<float>& correction);
 
 // Mass that gives a particle deep inside a cubic lattice of the given spacing exactly the
 // rest density with the poly6 kernel (SPEC §1, our calibration): m = rho0 / sum_j W(r_j).

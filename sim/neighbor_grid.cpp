@@ -1,5 +1,8 @@
 #include "sim/neighbor_grid.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -31,11 +34,11 @@ void NeighborGrid::sort(const float* x, const float* y, const float* z, size_t c
   sortedCell_.resize(count);
   order.resize(count);
   std::fill(cellStart_.begin(), cellStart_.end(), 0u);
-  for (size_t i = 0; i < count; ++i) {
-    const uint32_t c = cellIndex(x[i], y[i], z[i]);
-    cellOf_[i] = c;
-    ++cellStart_[c + 1];
-  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 16384), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) cellOf_[i] = cellIndex(x[i], y[i], z[i]);
+  });
+  // The histogram, prefix sum and scatter stay serial: a stable order independent of threads.
+  for (size_t i = 0; i < count; ++i) ++cellStart_[cellOf_[i] + 1];
   for (size_t c = 1; c < cellStart_.size(); ++c) cellStart_[c] += cellStart_[c - 1];
   // Stable counting sort: particles keep their previous relative order inside a cell, so the
   // order (and every sum over it) is a deterministic function of the previous state.
@@ -46,7 +49,9 @@ void NeighborGrid::sort(const float* x, const float* y, const float* z, size_t c
   // The increments above shifted each start to the next cell's start: shift back.
   for (size_t c = cellStart_.size() - 1; c > 0; --c) cellStart_[c] = cellStart_[c - 1];
   cellStart_[0] = 0;
-  for (size_t k = 0; k < count; ++k) sortedCell_[k] = cellOf_[order[k]];
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 16384), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) sortedCell_[k] = cellOf_[order[k]];
+  });
 }
 
 int NeighborGrid::candidateRanges(uint32_t cell, std::array<std::array<uint32_t, 2>, 9>& ranges) const {

@@ -1,13 +1,17 @@
 #include "sim/particles.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 namespace kurage::sim {
 
 namespace {
 template <class T>
 void gather(std::vector<T>& array, const std::vector<uint32_t>& order, std::vector<T>& scratch) {
   scratch.resize(array.size());
-  const size_t n = order.size();
-  for (size_t k = 0; k < n; ++k) scratch[k] = array[order[k]];
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, order.size(), 16384), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t k = r.begin(); k != r.end(); ++k) scratch[k] = array[order[k]];
+  });
   array.swap(scratch);
 }
 

@@ -105,8 +105,10 @@ void Simulation::computeAccelerations() {
   {
     StageTimer timer(stats_, Stage::Forces);
     const float mu = params_.fluid.restDensity * params_.fluid.kinematicViscosity;  // mu = rho0 nu
+    const bool correct = params_.fluid.gradientCorrection && params_.fluid.pressureForce == PressureForce::Monaghan1992;
+    if (correct) computeGradientCorrection(neighbors_, particles_, spiky_, params_.container, correction_);
     computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity,
-                             params_.fluid.pressureForce, wallSums_);
+                             params_.fluid.pressureForce, wallSums_, correct ? correction_.data() : nullptr);
   }
   accelerationsValid_ = true;
 }

@@ -91,6 +91,7 @@ private:
   ViscosityKernel viscosity_;
   std::unique_ptr<WallWeights> wallWeights_;
   WallSums wallSums_;
+  std::vector<float> correction_;  // kernel gradient correction, 6 floats per particle
   std::vector<Emitter> emitters_;
   std::vector<uint8_t> sinkFlags_;
   int64_t nextId_ = 0;
