@@ -46,23 +46,30 @@ SimParams waterColumn(PressureForce form, WallDensity walls, bool gradientCorrec
   return p;
 }
 
-// Mean d p / d(depth) over the interior (more than h from every wall, the floor and the surface),
-// averaged over the last second of a 2.5 s settling run, in units of rho0 g.
+// Runs the water column for 2.5 s and calls f(z, p) for every particle more than h from the side
+// walls, at ten times spread over the last second.
+template <class F>
+void sampleSettledColumn(Simulation& sim, F&& f) {
+  const float l = sim.params().fluid.spacing, h = sim.params().fluid.supportRadiusMetres();
+  for (int frame = 1; frame <= 25; ++frame) {
+    sim.advanceTo(frame * 0.1);
+    if (frame <= 15) continue;
+    const ParticleSet& s = sim.particles();
+    for (size_t i = 0; i < s.size(); ++i)
+      if (s.x[i] >= h && s.x[i] <= 12 * l - h && s.y[i] >= h && s.y[i] <= 12 * l - h) f(s.z[i], s.pressure[i]);
+  }
+}
+
+// Mean d p / d(depth) over the interior (also more than 2h from the floor and the surface), in
+// units of rho0 g: the least-squares slope of pressure against height.
 double interiorPressureGradient(Simulation& sim) {
   const SimParams& p = sim.params();
   const float l = p.fluid.spacing, h = p.fluid.supportRadiusMetres(), H = 20 * l, g = 9.81f;
-  // Least-squares slope of pressure against height over interior particles and sampled times.
   double sz = 0, sp = 0, szz = 0, szp = 0, n = 0;
-  for (int f = 1; f <= 25; ++f) {
-    sim.advanceTo(f * 0.1);
-    if (f <= 15) continue;
-    const ParticleSet& s = sim.particles();
-    for (size_t i = 0; i < s.size(); ++i) {
-      if (s.x[i] < h || s.x[i] > 12 * l - h || s.y[i] < h || s.y[i] > 12 * l - h) continue;
-      if (s.z[i] < 2 * h || s.z[i] > H - 2 * h) continue;
-      sz += s.z[i]; sp += s.pressure[i]; szz += double(s.z[i]) * s.z[i]; szp += double(s.z[i]) * s.pressure[i]; ++n;
-    }
-  }
+  sampleSettledColumn(sim, [&](double z, double pressure) {
+    if (z < 2 * h || z > H - 2 * h) return;
+    sz += z; sp += pressure; szz += z * z; szp += z * pressure; ++n;
+  });
   const double slope = (n * szp - sz * sp) / (n * szz - sz * sz);  // dp/dz, negative
   return -slope / (p.fluid.restDensity * g);
 }
@@ -166,18 +173,12 @@ TEST(Hydrostatic, PressureMatchesRhoGDepthWithin5PercentOfRhoGH) {
   const int slabs = 10;
   std::vector<double> sum(slabs, 0.0);
   std::vector<int> count(slabs, 0);
-  for (int f = 1; f <= 25; ++f) {
-    sim.advanceTo(f * 0.1);
-    if (f <= 15) continue;
-    const ParticleSet& s = sim.particles();
-    for (size_t i = 0; i < s.size(); ++i) {
-      if (s.x[i] < h || s.x[i] > 12 * l - h || s.y[i] < h || s.y[i] > 12 * l - h) continue;
-      const int k = int(s.z[i] / (H / slabs));
-      if (k < 0 || k >= slabs) continue;
-      sum[size_t(k)] += s.pressure[i];
-      ++count[size_t(k)];
-    }
-  }
+  sampleSettledColumn(sim, [&](double z, double pressure) {
+    const int k = int(z / (H / slabs));
+    if (k < 0 || k >= slabs) return;
+    sum[size_t(k)] += pressure;
+    ++count[size_t(k)];
+  });
   const double rhoGH = p.fluid.restDensity * g * H;
   int checked = 0;
   double worst = 0.0;
