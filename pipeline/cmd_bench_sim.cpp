@@ -52,7 +52,8 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps) {
   const auto start = std::chrono::steady_clock::now();
   double neighbours = 0;
   for (int i = 0; i < steps; ++i) {
-    // nextStepLimit uses the accelerations of the previous step: as in advanceTo, minus frames.
+    // The adaptive step from the previous step's accelerations (advanceTo recomputes them first;
+    // the step size differs negligibly and frames are not needed here).
     simulation.step(simulation.nextStepLimit().step);
     neighbours += double(simulation.neighbors().totalCount()) / simulation.particles().size();
   }

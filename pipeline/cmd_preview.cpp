@@ -126,8 +126,7 @@ int commandPreview(std::vector<std::string> rawArgs) {
   settings.height = height.value_or(scene.render.settings.height);
   // A fixed light from above, over the camera's shoulder, so the preview depends on the scene's
   // camera and resolution only.
-  const render::PreviewCamera camera{scene.render.camera.position, scene.render.camera.lookAt,
-                                     scene.render.camera.up, scene.render.camera.verticalFovDegrees};
+  const render::Camera& camera = scene.render.camera;
   const Eigen::Vector3f down = scene.sim.gravity.squaredNorm() > 0 ? Eigen::Vector3f(scene.sim.gravity.normalized())
                                                                    : Eigen::Vector3f(0, 0, -1);
   settings.lightDirection = 2.0f * down + (camera.lookAt - camera.position).normalized();

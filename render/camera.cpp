@@ -69,6 +69,14 @@ CameraRays::CameraRays(const Camera& camera, int width, int height) : width_(wid
   focus_ = camera.focusDistance > 0.0f ? camera.focusDistance : view.norm();
 }
 
+Eigen::Vector3f CameraRays::project(const Eigen::Vector3f& world) const {
+  const Eigen::Vector3f rel = world - position_;
+  const float z = rel.dot(forward_);
+  const float px = rel.dot(right_) / z / (aspect_ * tanHalfFov_);  // [-1, 1] across the image
+  const float py = rel.dot(up_) / z / tanHalfFov_;
+  return {0.5f * (px + 1.0f) * float(width_), 0.5f * (1.0f - py) * float(height_), z};
+}
+
 void CameraRays::generate(float x, float y, float u1, float u2, Eigen::Vector3f& origin,
                           Eigen::Vector3f& direction) const {
   // Image plane at distance 1: x in [-aspect, aspect] * tan, y in [-1, 1] * tan, row 0 on top.

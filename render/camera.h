@@ -47,8 +47,16 @@ public:
   // the aperture is non-zero. `direction` is unit length.
   void generate(float x, float y, float u1, float u2, Eigen::Vector3f& origin, Eigen::Vector3f& direction) const;
 
+  // Where a world point lands: pixel coordinates (x right, y down, as generate() takes them) and,
+  // in z, its distance along the viewing direction (<= 0: behind the camera). Pinhole projection.
+  Eigen::Vector3f project(const Eigen::Vector3f& world) const;
+
+  const Eigen::Vector3f& position() const { return position_; }
   const Eigen::Vector3f& forward() const { return forward_; }
+  const Eigen::Vector3f& right() const { return right_; }
   const Eigen::Vector3f& up() const { return up_; }
+  float tanHalfFov() const { return tanHalfFov_; }
+  float aspect() const { return aspect_; }
 
 private:
   Eigen::Vector3f position_, forward_, right_, up_;

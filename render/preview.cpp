@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 #include <stdexcept>
 #include <string>
 
@@ -134,36 +133,7 @@ void main() {
 }
 )";
 
-struct CameraFrame {
-  Eigen::Vector3f forward, right, up;
-  float tanHalfFov;
-};
-
-CameraFrame cameraFrame(const PreviewCamera& camera) {
-  CameraFrame f;
-  const Eigen::Vector3f view = camera.lookAt - camera.position;
-  const Eigen::Vector3f side = view.cross(camera.up);
-  const float tolerance = 1e-12f * view.squaredNorm() * camera.up.squaredNorm();
-  if (!(view.squaredNorm() > 0) || !(side.squaredNorm() > tolerance) || !side.allFinite())
-    throw std::invalid_argument("preview: degenerate camera (position = lookAt, or up parallel to the view)");
-  f.forward = view.normalized();
-  f.right = side.normalized();
-  f.up = f.right.cross(f.forward);
-  f.tanHalfFov = std::tan(0.5f * camera.verticalFovDegrees * std::numbers::pi_v<float> / 180.0f);
-  return f;
-}
-
 }  // namespace
-
-Eigen::Vector3f projectToPixel(const PreviewCamera& camera, int width, int height, const Eigen::Vector3f& world) {
-  const CameraFrame f = cameraFrame(camera);
-  const Eigen::Vector3f rel = world - camera.position;
-  const float z = rel.dot(f.forward);
-  const float aspect = float(width) / float(height);
-  const float px = rel.dot(f.right) / z / (aspect * f.tanHalfFov);  // [-1, 1] across the image
-  const float py = rel.dot(f.up) / z / f.tanHalfFov;
-  return {0.5f * (px + 1.0f) * float(width), 0.5f * (1.0f - py) * float(height), z};
-}
 
 struct PreviewRenderer::Impl {
   OSMesaContext context = nullptr;
@@ -272,21 +242,21 @@ std::string PreviewRenderer::glVersion() const {
   return text(GL_VERSION) + " (" + text(GL_RENDERER) + ")";
 }
 
-Image PreviewRenderer::render(const PreviewSpheres& spheres, const PreviewCamera& camera, const PreviewSettings& settings) {
+Image PreviewRenderer::render(const PreviewSpheres& spheres, const Camera& camera, const PreviewSettings& settings) {
   const size_t n = spheres.centres.size();
   if (spheres.radii.size() != n || spheres.colours.size() != n)
     throw std::invalid_argument("preview: centres, radii and colours differ in length");
   if (settings.width <= 0 || settings.height <= 0 || settings.width > 16384 || settings.height > 16384)
     throw std::invalid_argument("preview: image size out of range");
-  const CameraFrame f = cameraFrame(camera);
+  const CameraRays f(camera, settings.width, settings.height);  // validates the camera
   impl_->makeCurrent(settings.width, settings.height);
   const Gl& gl = impl_->gl;
 
   // View: x right, y up, -z forward (OpenGL's convention).
   Eigen::Matrix4f view = Eigen::Matrix4f::Identity();
-  view.block<1, 3>(0, 0) = f.right.transpose();
-  view.block<1, 3>(1, 0) = f.up.transpose();
-  view.block<1, 3>(2, 0) = -f.forward.transpose();
+  view.block<1, 3>(0, 0) = f.right().transpose();
+  view.block<1, 3>(1, 0) = f.up().transpose();
+  view.block<1, 3>(2, 0) = -f.forward().transpose();
   view.block<3, 1>(0, 3) = -view.block<3, 3>(0, 0) * camera.position;
 
   // Near and far planes around the spheres in front of the camera.
@@ -295,7 +265,7 @@ Image PreviewRenderer::render(const PreviewSpheres& spheres, const PreviewCamera
   for (size_t i = 0; i < n; ++i) {
     if (!(spheres.radii[i] > 0.0f)) throw std::invalid_argument("preview: sphere radius must be > 0");
     const Eigen::Vector3f& c = spheres.centres[i];
-    const float depth = (c - camera.position).dot(f.forward);
+    const float depth = (c - camera.position).dot(f.forward());
     nearest = std::min(nearest, depth - spheres.radii[i]);
     farthest = std::max(farthest, depth + spheres.radii[i]);
     float* out = &instances[i * kFloatsPerSphere];
@@ -306,8 +276,8 @@ Image PreviewRenderer::render(const PreviewSpheres& spheres, const PreviewCamera
   const float near = std::clamp(nearest, far * 1e-5f, far * 0.5f);
   const float aspect = float(settings.width) / float(settings.height);
   Eigen::Matrix4f projection = Eigen::Matrix4f::Zero();
-  projection(0, 0) = 1.0f / (aspect * f.tanHalfFov);
-  projection(1, 1) = 1.0f / f.tanHalfFov;
+  projection(0, 0) = 1.0f / (aspect * f.tanHalfFov());
+  projection(1, 1) = 1.0f / f.tanHalfFov();
   projection(2, 2) = -(far + near) / (far - near);
   projection(2, 3) = -2.0f * far * near / (far - near);
   projection(3, 2) = -1.0f;

@@ -7,7 +7,8 @@
 // its silhouette exactly under perspective; the fragment shader intersects the view ray with the
 // sphere, discards misses and writes the true depth, so spheres intersect each other correctly.
 // Shading is Lambert under one directional light plus a uniform ambient term, over a flat
-// background colour. The camera is a pinhole with a vertical field of view; row 0 at the top.
+// background colour. The camera is the tracer's (render/camera.h) used as a pinhole: its lens
+// (aperture, focus) is ignored. Row 0 is at the top.
 //
 // Units: world space, metres. Colours are linear RGB in [0, 1]; the returned Image holds linear
 // values (decoded from the 8-bit sRGB framebuffer, so writePng reproduces its bytes exactly).
@@ -17,6 +18,7 @@
 // PreviewRenderer per thread (OSMesa contexts are bound to the calling thread).
 #pragma once
 
+#include "render/camera.h"
 #include "render/image.h"
 
 #include <Eigen/Core>
@@ -26,15 +28,6 @@
 #include <vector>
 
 namespace kurage::render {
-
-// A pinhole camera, as the tracer's (render/camera.h) without the lens: vertical field of view,
-// aspect = image width / height.
-struct PreviewCamera {
-  Eigen::Vector3f position{0, -10, 5};
-  Eigen::Vector3f lookAt{0, 0, 0};
-  Eigen::Vector3f up{0, 0, 1};
-  float verticalFovDegrees = 45.0f;
-};
 
 struct PreviewSpheres {
   std::vector<Eigen::Vector3f> centres;  // world, metres
@@ -62,7 +55,7 @@ public:
 
   // Renders one frame. Throws std::invalid_argument for mismatched array lengths, a
   // non-positive image size or a degenerate camera, std::runtime_error for GL errors.
-  Image render(const PreviewSpheres& spheres, const PreviewCamera& camera, const PreviewSettings& settings);
+  Image render(const PreviewSpheres& spheres, const Camera& camera, const PreviewSettings& settings);
 
   // "Mesa 22.3.6 (llvmpipe ...)": GL_VERSION and GL_RENDERER of the context.
   std::string glVersion() const;
@@ -72,9 +65,5 @@ public:
 private:
   std::unique_ptr<Impl> impl_;
 };
-
-// Pixel coordinates (x right, y down, pixel centres at +0.5) where a world point projects
-// with the pinhole camera above; z is the distance along the view direction (<= 0: behind).
-Eigen::Vector3f projectToPixel(const PreviewCamera& camera, int width, int height, const Eigen::Vector3f& world);
 
 }  // namespace kurage::render

@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <vector>
 
 namespace kurage::sim {
@@ -50,7 +51,7 @@ struct FluidParams {
   bool gradientCorrection = false;
 
   float supportRadiusMetres() const { return supportRadius * spacing; }
-  float speedOfSound() const;  // sqrt(k_press), m/s
+  float speedOfSound() const { return std::sqrt(pressureStiffness); }  // m/s
 };
 
 struct ContainerParams {

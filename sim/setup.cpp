@@ -20,10 +20,4 @@ std::vector<Eigen::Vector3f> latticePoints(const FluidBlock& block, float spacin
   return points;
 }
 
-void addFluidBlock(ParticleSet& particles, const FluidBlock& block, float spacing, float restDensity, float mass,
-                   int64_t& nextId) {
-  for (const Eigen::Vector3f& p : latticePoints(block, spacing))
-    particles.add(p.x(), p.y(), p.z(), 0, 0, 0, restDensity, mass, nextId++, 0);
-}
-
 }  // namespace kurage::sim

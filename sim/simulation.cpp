@@ -73,18 +73,21 @@ Simulation::Simulation(SimParams params)
   }
   wallSums_.box = params_.container;
   wallSums_.restDensity = fluid.restDensity;
+  std::vector<std::vector<Eigen::Vector3f>> blockPoints;
   size_t expected = 0;
-  for (const FluidBlock& block : params_.fluidBlocks) expected += latticePoints(block, fluid.spacing).size();
+  for (const FluidBlock& block : params_.fluidBlocks) {
+    blockPoints.push_back(latticePoints(block, fluid.spacing));
+    expected += blockPoints.back().size();
+  }
   for (const EmitterParams& e : params_.emitters) {
     emitters_.emplace_back(e, fluid.spacing);
     expected += emitters_.back().expectedTotal();
   }
   particles_.reserve(expected);
-  for (const FluidBlock& block : params_.fluidBlocks)
-    addFluidBlock(particles_, block, fluid.spacing, fluid.restDensity, fluidMass_, nextId_);
+  for (const std::vector<Eigen::Vector3f>& points : blockPoints)
+    for (const Eigen::Vector3f& q : points)
+      particles_.add(q.x(), q.y(), q.z(), 0, 0, 0, fluid.restDensity, fluidMass_, nextId_++, 0);
 }
-
-float FluidParams::speedOfSound() const { return std::sqrt(pressureStiffness); }
 
 void Simulation::sortParticles() {
   StageTimer timer(stats_, Stage::Sort);
@@ -110,7 +113,6 @@ void Simulation::computeAccelerations() {
     computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity,
                              params_.fluid.pressureForce, wallSums_, correct ? correction_.data() : nullptr);
   }
-  accelerationsValid_ = true;
 }
 
 void Simulation::integrate(float dt, double newTime) {
@@ -129,7 +131,6 @@ void Simulation::integrate(float dt, double newTime) {
     StageTimer timer(stats_, Stage::Walls);
     enforceBoxWalls(particles_, params_.container, wallSums_.weights ? 0.5f * params_.fluid.spacing : 0.0f);  // (15)
   }
-  accelerationsValid_ = false;
   time_ = newTime;
   if (!emitters_.empty()) {
     StageTimer timer(stats_, Stage::Emitters);

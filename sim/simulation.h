@@ -97,7 +97,6 @@ private:
   int64_t nextId_ = 0;
   float fluidMass_ = 0.0f;
   double time_ = 0.0;
-  bool accelerationsValid_ = false;
   SimStats stats_;
 };
 

@@ -13,8 +13,8 @@
 namespace kurage::render {
 namespace {
 
-PreviewCamera testCamera() {
-  PreviewCamera camera;
+Camera testCamera() {
+  Camera camera;
   camera.position = Eigen::Vector3f(1.0f, -12.0f, 4.0f);
   camera.lookAt = Eigen::Vector3f(0.5f, 0.0f, 1.0f);
   camera.up = Eigen::Vector3f(0, 0, 1);
@@ -57,7 +57,7 @@ PreviewSpheres knownSpheres() {
 
 TEST(Preview, SpheresAppearWhereTheCameraProjectsThemWithTheirColours) {
   PreviewRenderer renderer;
-  const PreviewCamera camera = testCamera();
+  const Camera camera = testCamera();
   const PreviewSettings settings = testSettings();
   const PreviewSpheres spheres = knownSpheres();
   const Image image = renderer.render(spheres, camera, settings);
@@ -70,7 +70,7 @@ TEST(Preview, SpheresAppearWhereTheCameraProjectsThemWithTheirColours) {
   std::vector<Eigen::Vector3f> projected;
   std::vector<float> projectedRadius;
   for (size_t i = 0; i < spheres.centres.size(); ++i) {
-    projected.push_back(projectToPixel(camera, settings.width, settings.height, spheres.centres[i]));
+    projected.push_back(CameraRays(camera, settings.width, settings.height).project(spheres.centres[i]));
     ASSERT_GT(projected.back().z(), 0.0f);
     projectedRadius.push_back(spheres.radii[i] / projected.back().z() * pixelsPerRadian);
     ASSERT_GT(projectedRadius.back(), 2.0f);  // big enough to test
@@ -135,7 +135,7 @@ TEST(Preview, FramesAreDeterministicAndSizesCanChange) {
 }
 
 TEST(Preview, NearerSphereHidesFartherOne) {
-  PreviewCamera camera = testCamera();
+  Camera camera = testCamera();
   const Eigen::Vector3f forward = (camera.lookAt - camera.position).normalized();
   PreviewSpheres spheres;
   // Far red sphere drawn last: depth testing, not drawing order, must decide.
@@ -145,7 +145,7 @@ TEST(Preview, NearerSphereHidesFartherOne) {
   PreviewRenderer renderer;
   const PreviewSettings settings = testSettings();
   const Image image = renderer.render(spheres, camera, settings);
-  const Eigen::Vector3f c = projectToPixel(camera, settings.width, settings.height, spheres.centres[0]);
+  const Eigen::Vector3f c = CameraRays(camera, settings.width, settings.height).project(spheres.centres[0]);
   EXPECT_EQ(dominantChannel(image.at(int(c.x()), int(c.y()))), 2);
   std::swap(spheres.centres[0], spheres.centres[1]);
   std::swap(spheres.radii[0], spheres.radii[1]);
@@ -158,7 +158,7 @@ TEST(Preview, RejectsMismatchedInput) {
   PreviewSpheres spheres = knownSpheres();
   spheres.radii.pop_back();
   EXPECT_THROW(renderer.render(spheres, testCamera(), testSettings()), std::invalid_argument);
-  PreviewCamera degenerate = testCamera();
+  Camera degenerate = testCamera();
   degenerate.lookAt = degenerate.position;
   EXPECT_THROW(renderer.render(knownSpheres(), degenerate, testSettings()), std::invalid_argument);
 }
