@@ -1,6 +1,7 @@
 #include "pipeline/scene.h"
 
 #include "pipeline/scene_params.h"
+#include "sim/bodies.h"
 
 #include <Eigen/Geometry>
 
@@ -67,6 +68,37 @@ void validate(const Scene& scene, const std::string& file) {
     for (int a = 0; a < 3; ++a)
       if (!(k.max[a] > k.min[a]))
         fail("sinks[" + std::to_string(i) + "].max", "must exceed min on every axis, got min " + vec(k.min) + ", max " + vec(k.max));
+  }
+  for (size_t i = 0; i < sim.bodies.size(); ++i) {
+    const sim::BodyParams& b = sim.bodies[i];
+    const std::string path = "bodies[" + std::to_string(i) + "]";
+    if (b.shape == sim::BodyShape::Box || b.shape == sim::BodyShape::Membrane)
+      for (int a = 0; a < (b.shape == sim::BodyShape::Box ? 3 : 2); ++a)
+        if (!(b.max[a] > b.min[a])) fail(path + ".max", "must exceed min on every axis, got min " + vec(b.min) + ", max " + vec(b.max));
+    if (b.shape == sim::BodyShape::Shell && b.axis.norm() <= 0.0f) fail(path + ".axis", "must not be zero");
+    if (b.shape == sim::BodyShape::Chain && (b.end - b.start).norm() <= 0.0f) fail(path + ".end", "must differ from start");
+    if (b.shape != sim::BodyShape::Chain && !b.attachTo.empty()) fail(path + ".attach_to", "only a chain can be attached");
+    for (size_t k = 0; k < b.pins.size(); ++k)
+      if (b.pins[k].kind == sim::SelectionKind::Region && ((b.pins[k].max - b.pins[k].min).array() < 0.0f).any())
+        fail(path + ".pins[" + std::to_string(k) + "].max", "must not be below min on any axis");
+    for (size_t m = 0; m < b.muscles.size(); ++m) {
+      const std::string mp = path + ".muscles[" + std::to_string(m) + "]";
+      const sim::ForceCurve& c = b.muscles[m].force;
+      if (c.type == sim::CurveType::Keys && c.keys.empty()) fail(mp + ".force.keys", "a 'keys' curve needs at least one key");
+      for (size_t k = 1; k < c.keys.size(); ++k)
+        if (!(c.keys[k].time > c.keys[k - 1].time))
+          fail(mp + ".force.keys[" + std::to_string(k) + "].time", "must be later than the key before");
+      if (c.type == sim::CurveType::Pulse && !(c.end > c.start)) fail(mp + ".force.end", "must be after start");
+      for (size_t o = 0; o < m; ++o)
+        if (b.muscles[o].name == b.muscles[m].name) fail(mp + ".name", "\"" + b.muscles[m].name + "\" is used twice in this body");
+    }
+  }
+  if (!sim.bodies.empty()) {
+    const std::vector<sim::BodyProblem> problems = sim::checkBodies(sim);
+    if (!problems.empty()) {
+      const sim::BodyProblem& p = problems.front();
+      fail("bodies[" + std::to_string(p.body) + "]" + (p.field.empty() ? "" : "." + p.field), p.message);
+    }
   }
   const sim::TimeStepParams& ts = sim.timeStep;
   if (ts.minStep > ts.maxStep) fail("time_step.min_step", "must not exceed time_step.max_step");

@@ -81,6 +81,92 @@ void describe(V& v, sim::SinkParams& p) {
   v.value("max", p.max, {"m", "upper corner of the outflow box", anyValue(), true});
 }
 
+inline const EnumTable<sim::BodyShape> kBodyShape{{"box", sim::BodyShape::Box},
+                                                  {"membrane", sim::BodyShape::Membrane},
+                                                  {"shell", sim::BodyShape::Shell},
+                                                  {"chain", sim::BodyShape::Chain}};
+inline const EnumTable<sim::SelectionKind> kSelectionKind{{"all", sim::SelectionKind::All},
+                                                          {"rim", sim::SelectionKind::Rim},
+                                                          {"region", sim::SelectionKind::Region}};
+inline const EnumTable<sim::CurveType> kCurveType{{"keys", sim::CurveType::Keys}, {"pulse", sim::CurveType::Pulse}};
+
+template <class V>
+void describe(V& v, sim::Selection& p) {
+  v.enumeration("select", p.kind, kSelectionKind,
+                {"", "'all' the whole body, 'rim' the edge band of a membrane or shell (a chain's first particle), "
+                     "'region' the box [min, max] at t = 0", {}, true});
+  v.value("min", p.min, {"m", "lower corner of the region (select = 'region')"});
+  v.value("max", p.max, {"m", "upper corner of the region"});
+}
+
+template <class V>
+void describe(V& v, sim::CurveKey& p) {
+  v.value("time", p.time, {"s", "time of the key", nonNegative(), true});
+  v.value("force", p.value, {"N", "force per spring at that time; positive contracts", anyValue(), true});
+}
+
+template <class V>
+void describe(V& v, sim::ForceCurve& p) {
+  v.enumeration("type", p.type, kCurveType,
+                {"", "'keys': piecewise linear between keys (constant outside); 'pulse': a pulse train", {}, true});
+  v.list("keys", p.keys, {"", "the keys of a 'keys' curve, by increasing time"});
+  v.value("period", p.period, {"s", "pulse period", positive()});
+  v.value("duty", p.duty, {"", "fraction of each period the pulse is on", {0.0, 1.0, false, true}});
+  v.value("amplitude", p.amplitude, {"N", "pulse force per spring; positive contracts, negative expands"});
+  v.value("ramp", p.ramp, {"s", "rise and fall time of each pulse (smooth onset avoids shocks)", nonNegative()});
+  v.value("start", p.start, {"s", "time of the first pulse", nonNegative()});
+  v.value("end", p.end, {"s", "no pulse starts at or after this time", nonNegative()});
+}
+
+template <class V>
+void describe(V& v, sim::MuscleParams& p) {
+  v.value("name", p.name, {"", "muscle name (reported in run.json)"});
+  v.object("springs", p.springs,
+           {"", "the springs it pulls: those whose both ends are selected ('all', 'rim' or a region)", {}, true});
+  v.object("force", p.force, {"", "force per spring against time (N): positive pulls the ends together", {}, true});
+}
+
+template <class V>
+void describe(V& v, sim::BodyParams& p) {
+  v.value("name", p.name, {"", "body name, unique in the scene (chains refer to it)"});
+  v.enumeration("shape", p.shape, kBodyShape,
+                {"", "'box' (filled block), 'membrane' (sheet of `layers` layers in x-y), 'shell' (spherical cap "
+                     "of `layers` layers: a jellyfish bell) or 'chain' (a line of particles: an oral arm)", {}, true});
+  v.value("min", p.min, {"m", "box: lower corner; membrane: corner of the sheet (its layers are centred on (min.z + max.z) / 2)"});
+  v.value("max", p.max, {"m", "box, membrane: upper corner"});
+  v.value("layers", p.layers, {"", "membrane, shell: number of particle layers", between(1, 64)});
+  v.value("center", p.center, {"m", "shell: centre of the spheres"});
+  v.value("axis", p.axis, {"", "shell: direction from the centre through the apex"});
+  v.value("inner_radius", p.innerRadius, {"m", "shell: radius of the innermost layer", positive()});
+  v.value("opening_angle", p.openingAngle,
+          {"deg", "shell: polar angle of the rim from the apex (90 = hemisphere)", {0.0, 180.0, false, true}});
+  v.value("start", p.start, {"m", "chain: first particle (where it hangs)"});
+  v.value("end", p.end, {"m", "chain: direction and length"});
+  v.value("attach_to", p.attachTo,
+          {"", "chain: name of the body whose particles within the connection radius of the start hold the chain"});
+  v.value("spacing", p.spacing,
+          {"l_avr", "particle spacing (diameter) as a fraction of the fluid's (paper: 0.5; a body expected to stretch n "
+                    "times should use 1/n)", {0.0, 4.0, false, true}});
+  v.value("specific_gravity", p.specificGravity,
+          {"", "initial rest density / 1000 kg/m^3 (paper: 1.1 membrane and jellyfish, 0.7 box)", positive()});
+  v.value("stiffness", p.stiffness, {"N/m", "spring coefficient k of (7) (paper: 30 membrane, 10 box, 50 jellyfish)", nonNegative()});
+  v.value("damping", p.damping, {"N s/m", "damper coefficient d of (7) (paper: 10, 15, 10)", nonNegative()});
+  v.value("connection_radius", p.connectionRadius,
+          {"l_avr", "h_spr: every pair closer than this at t = 0 is joined by a spring (paper: 2.1, 2.4, 4.1)", positive()});
+  v.value("telescopic_density", p.telescopicDensity,
+          {"", "rest density follows stretch, (8)-(10); false = the paper's conventional mass-spring model"});
+  v.value("rim_width", p.rimWidth, {"spacings", "width of the 'rim' selection band", positive()});
+  v.list("pins", p.pins, {"", "particles held fixed in space ('rim' or a region)"});
+  v.list("muscles", p.muscles, {"", "named groups of springs driven by a force curve"});
+}
+
+template <class V>
+void describe(V& v, sim::CollisionParams& p) {
+  v.value("max_passes", p.maxPasses,
+          {"", "cap of the body collision loop per step (repeated until a pass finds no collision); run.json "
+               "reports how often it was hit", between(1, 100000)});
+}
+
 template <class V>
 void describe(V& v, sim::TimeStepParams& p) {
   v.enumeration("mode", p.mode, kTimeStepMode, {"", "'adaptive' (bounded by CFL, viscosity, force) or 'fixed'"});
@@ -88,6 +174,9 @@ void describe(V& v, sim::TimeStepParams& p) {
   v.value("cfl", p.cflFactor, {"", "CFL factor: dt <= cfl h / (c + |v|max)", {0.0, 1.0, true, false}});
   v.value("viscous_factor", p.viscousFactor, {"", "dt <= factor h^2 / nu", {0.0, 1.0, true, false}});
   v.value("force_factor", p.forceFactor, {"", "dt <= factor sqrt(h / |a|max)", {0.0, 1.0, true, false}});
+  v.value("spring_factor", p.springFactor,
+          {"", "bodies: dt <= factor min_i min(sqrt(2 m_i / K_i), m_i / D_i), K_i and D_i the sums of k and d over "
+               "particle i's springs", {0.0, 2.0, true, false}});
   v.value("max_step", p.maxStep, {"s", "largest adaptive step", positive()});
   v.value("min_step", p.minStep, {"s", "floor of the adaptive step: a bound below it stops the run", positive()});
 }
@@ -260,6 +349,8 @@ void describe(V& v, Scene& s) {
   v.list("fluid_blocks", s.sim.fluidBlocks, {"", "boxes filled with fluid particles at t = 0"});
   v.list("emitters", s.sim.emitters, {"", "nozzles that pour fluid in (faucets)"});
   v.list("sinks", s.sim.sinks, {"", "boxes that remove the fluid particles entering them (outflows)"});
+  v.list("bodies", s.sim.bodies, {"", "telescopic deformable bodies (springs, stretch-following density, muscles)"});
+  v.object("collisions", s.sim.collisions, {"", "collisions between body particles"});
   v.object("time_step", s.sim.timeStep, {"", "time integration step control"});
   v.object("output", s.output, {"", "what to write: duration and frame rate", {}, true});
   v.object("surface", s.surface, {"", "metaball surfacing"});

@@ -12,7 +12,9 @@
 #include <png.h>
 #include <tbb/version.h>
 
+#include <algorithm>
 #include <chrono>
+#include <sstream>
 #include <stdexcept>
 
 namespace kurage::pipeline {
@@ -43,6 +45,78 @@ void requireFile(const fs::path& file, const char* producer) {
   if (!fs::exists(file))
     throw std::runtime_error(file.string() + ": missing; run `kurage " + producer + "` for these frames first");
 }
+
+// Per frame: each body's centre of mass and mean stretch, each muscle's force, the fluid's surface
+// height; written as OUT/bodies.csv (and plotted when the scene has muscles).
+class BodyTrack {
+public:
+  explicit BodyTrack(const Scene& scene) : scene_(scene) {}
+
+  void record(const sim::Simulation& simulation) {
+    if (scene_.sim.bodies.empty()) return;
+    const sim::ParticleSet& p = simulation.particles();
+    const size_t bodies = scene_.sim.bodies.size();
+    std::vector<Eigen::Vector3d> centre(bodies, Eigen::Vector3d::Zero());
+    std::vector<double> count(bodies, 0.0), factor(bodies, 0.0);
+    std::vector<float> fluidZ;
+    for (size_t i = 0; i < p.size(); ++i) {
+      if (p.kind[i] == 0) {
+        fluidZ.push_back(p.z[i]);
+        continue;
+      }
+      const size_t b = size_t(p.kind[i] - 1);
+      centre[b] += Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
+      count[b] += 1.0;
+      factor[b] += p.restDensity[i] / scene_.sim.bodies[b].restDensity();
+    }
+    Row row;
+    row.time = simulation.time();
+    // The free surface: the 98th percentile of the fluid particles' heights.
+    if (!fluidZ.empty()) {
+      const size_t k = size_t(0.98 * double(fluidZ.size() - 1));
+      std::nth_element(fluidZ.begin(), fluidZ.begin() + long(k), fluidZ.end());
+      row.surface = fluidZ[k];
+    }
+    for (size_t b = 0; b < bodies; ++b) {
+      row.centres.push_back(count[b] > 0 ? Eigen::Vector3d(centre[b] / count[b]) : Eigen::Vector3d::Zero());
+      row.factors.push_back(count[b] > 0 ? factor[b] / count[b] : 1.0);
+    }
+    for (const sim::BodyParams& b : scene_.sim.bodies)
+      for (const sim::MuscleParams& m : b.muscles) row.forces.push_back(m.force.at(row.time));
+    rows_.push_back(std::move(row));
+  }
+
+  void write(const fs::path& outDir) const {
+    std::ostringstream csv;
+    csv << "time_s,fluid_surface_z_m";
+    for (const sim::BodyParams& b : scene_.sim.bodies)
+      csv << "," << b.name << "_x_m," << b.name << "_y_m," << b.name << "_z_m," << b.name << "_depth_m," << b.name
+          << "_rest_density_factor";
+    for (const sim::BodyParams& b : scene_.sim.bodies)
+      for (const sim::MuscleParams& m : b.muscles) csv << "," << b.name << "_" << m.name << "_force_N";
+    csv << "\n";
+    for (const Row& r : rows_) {
+      csv << r.time << "," << r.surface;
+      for (size_t b = 0; b < r.centres.size(); ++b)
+        csv << "," << r.centres[b].x() << "," << r.centres[b].y() << "," << r.centres[b].z() << ","
+            << r.surface - r.centres[b].z() << "," << r.factors[b];
+      for (double f : r.forces) csv << "," << f;
+      csv << "\n";
+    }
+    writeTextAtomic(outDir / "bodies.csv", csv.str());
+  }
+
+private:
+  struct Row {
+    double time = 0.0;
+    double surface = 0.0;
+    std::vector<Eigen::Vector3d> centres;
+    std::vector<double> factors;
+    std::vector<double> forces;
+  };
+  const Scene& scene_;
+  std::vector<Row> rows_;
+};
 
 }  // namespace
 
@@ -94,22 +168,35 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   const fs::path folder = options.outDir / "particles";
   fs::create_directories(folder);
   sim::Simulation simulation(scene.sim);
-  const std::vector<float> phaseRestDensity{scene.sim.fluid.restDensity};
+  std::vector<float> phaseRestDensity{scene.sim.fluid.restDensity};
+  for (const sim::BodyParams& b : scene.sim.bodies) phaseRestDensity.push_back(b.restDensity());
+  BodyTrack track(scene);
   Progress progress("sim", last + 1, options.progress);
   for (int f = 0; f <= last; ++f) {
     simulation.advanceTo(scene.output.frameTime(f));
+    track.record(simulation);
     if (f >= first) writeParticleFrame(frameFile(folder, f, "vdb"), toFrame(simulation.particles(), simulation.time(), f, phaseRestDensity));
     progress.advance(f + 1);
   }
   progress.finish();
+  if (!scene.sim.bodies.empty()) track.write(options.outDir);
 
   const sim::SimStats& stats = simulation.stats();
   nlohmann::json bounds = nlohmann::json::object();
   for (size_t b = 0; b < size_t(sim::StepBound::Count); ++b)
     if (stats.boundCounts[b]) bounds[std::string(sim::stepBoundName(sim::StepBound(b)))] = stats.boundCounts[b];
   nlohmann::json stageTimes = nlohmann::json::object();
+  nlohmann::json stagesRun = nlohmann::json::array();
+  double stepSeconds = 0.0;
+  for (size_t s = 0; s < size_t(sim::Stage::Count); ++s) stepSeconds += stats.stageSeconds[s];
   for (size_t s = 0; s < size_t(sim::Stage::Count); ++s)
-    if (stats.stageRan(sim::Stage(s))) stageTimes[std::string(sim::stageName(sim::Stage(s)))] = stats.stageSeconds[s];
+    if (stats.stageRan(sim::Stage(s))) {
+      const std::string name(sim::stageName(sim::Stage(s)));
+      stagesRun.push_back(name);
+      stageTimes[name] = {{"seconds", stats.stageSeconds[s]},
+                          {"share", stepSeconds > 0.0 ? stats.stageSeconds[s] / stepSeconds : 0.0},
+                          {"calls", stats.stageCalls[s]}};
+    }
   const sim::StepLimit stability = simulation.stabilityLimit();
   record.data()["derived"] = {
       {"fluid_particle_mass_kg", simulation.fluidParticleMass()},
@@ -129,7 +216,27 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
                           {"min_step_s", stats.minStep},
                           {"max_step_s", stats.maxStep},
                           {"active_bound_counts", bounds},
-                          {"step_stage_seconds", stageTimes}});
+                          {"stages_run", stagesRun},
+                          {"step_stages", stageTimes}});
+  if (const sim::BodySystem* bodies = simulation.bodies()) {
+    nlohmann::json list = nlohmann::json::array();
+    for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
+      list.push_back({{"name", scene.sim.bodies[b].name},
+                      {"kind", b + 1},
+                      {"particle_mass_kg", bodies->particleMass(b)},
+                      {"rest_density_kg_per_m3", bodies->restDensity(b)}});
+    const sim::BodyStats& bs = bodies->stats();
+    record.data()["stages"]["sim"]["bodies"] = {
+        {"bodies", list},
+        {"body_particles", bodies->particleCount()},
+        {"springs", bodies->springCount()},
+        {"spring_step_bound_s", bodies->springStep() * scene.sim.timeStep.springFactor},
+        {"collision_cap", scene.sim.collisions.maxPasses},
+        {"collision_cap_hits", bs.capHits},
+        {"collision_passes", bs.collisionPasses},
+        {"collisions_resolved", bs.collisionsResolved},
+        {"most_collision_passes_in_a_step", bs.mostPasses}};
+  }
   record.save();
 }
 

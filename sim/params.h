@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace kurage::sim {
@@ -93,8 +94,88 @@ struct TimeStepParams {
   float cflFactor = 0.4f;   // dt <= cfl * h / (c + |v|max)
   float viscousFactor = 0.125f;  // dt <= factor * h^2 / nu
   float forceFactor = 0.25f;     // dt <= factor * sqrt(h / |a|max)
+  float springFactor = 0.5f;  // dt <= factor * min_i min(sqrt(2 m_i / K_i), m_i / D_i) (bodies only)
   float maxStep = 0.05f;    // s, upper limit of the adaptive step
   float minStep = 1e-5f;    // s, floor: a smaller bound stops the run with an error
+};
+
+// ---- Telescopic deformable bodies (SPEC §3) ----
+
+enum class BodyShape {
+  Box,       // a filled block: lattice points of the body spacing in [min, max]
+  Membrane,  // a sheet over [min, max] in x and y, `layers` lattice layers centred on (min.z + max.z) / 2
+  Shell,     // a spherical cap (jellyfish bell): `layers` concentric shells, the innermost at inner_radius
+  Chain,     // a line of particles from `start` to `end` (oral arms), hung from another body
+};
+
+// Particles (pins) or springs (muscles) of a body picked by name or by region.
+enum class SelectionKind {
+  All,     // the whole body
+  Rim,     // the edge band of a membrane or shell (rim_width body spacings wide); a chain's first particle
+  Region,  // particles inside the box [min, max] at t = 0 (springs: both ends inside)
+};
+
+struct Selection {
+  SelectionKind kind = SelectionKind::Region;
+  Eigen::Vector3f min{0, 0, 0};
+  Eigen::Vector3f max{0, 0, 0};
+};
+
+// A muscle's force per spring over time (N, positive pulls the spring's ends together).
+enum class CurveType { Keys, Pulse };
+struct CurveKey {
+  float time = 0.0f;   // s
+  float value = 0.0f;  // N
+};
+struct ForceCurve {
+  CurveType type = CurveType::Keys;
+  std::vector<CurveKey> keys;  // piecewise linear, constant before the first and after the last key
+  float period = 1.0f;         // pulse train: s
+  float duty = 0.5f;           // fraction of the period the force is on
+  float amplitude = 1.0f;      // N
+  float ramp = 0.0f;           // s to rise from 0 to the amplitude and to fall back (within the on time)
+  float start = 0.0f;          // s, first pulse
+  float end = 1e30f;           // s, no pulse starts at or after this time
+
+  float at(double t) const;
+};
+
+struct MuscleParams {
+  std::string name = "muscle";
+  Selection springs{SelectionKind::All, {0, 0, 0}, {0, 0, 0}};
+  ForceCurve force;
+};
+
+struct BodyParams {
+  std::string name = "body";
+  BodyShape shape = BodyShape::Box;
+  Eigen::Vector3f min{0, 0, 0};  // box, membrane
+  Eigen::Vector3f max{1, 1, 1};
+  int layers = 3;                   // membrane, shell
+  Eigen::Vector3f center{0, 0, 0};  // shell: centre of the spheres
+  Eigen::Vector3f axis{0, 0, 1};    // shell: from the centre through the apex
+  float innerRadius = 2.0f;         // shell, m: radius of the innermost layer
+  float openingAngle = 90.0f;       // shell: polar angle of the rim from the apex, degrees (90 = hemisphere)
+  Eigen::Vector3f start{0, 0, 0};   // chain
+  Eigen::Vector3f end{0, 0, 1};
+  std::string attachTo;             // chain: the body whose particles near the chain's start hold it
+  float spacing = 0.5f;             // body particle spacing (diameter) / l_avr (SPEC §3.2, paper 0.5)
+  float specificGravity = 1.1f;     // rho0_body / 1000 kg/m^3
+  float stiffness = 30.0f;          // k, N/m (SPEC §5: 30 membrane, 10 box, 50 jellyfish)
+  float damping = 10.0f;            // d, N s/m
+  float connectionRadius = 2.1f;    // h_spr / l_avr
+  bool telescopicDensity = true;    // (8)-(10); false = the paper's "conventional mass-spring model"
+  float rimWidth = 1.0f;            // rim band width in body spacings
+  std::vector<Selection> pins;      // particles held fixed in space
+  std::vector<MuscleParams> muscles;
+
+  float spacingMetres(float fluidSpacing) const { return spacing * fluidSpacing; }
+  float restDensity() const { return 1000.0f * specificGravity; }
+};
+
+// Collisions between body particles not joined by a spring (SPEC §3.4).
+struct CollisionParams {
+  int maxPasses = 32;  // cap of the collision loop
 };
 
 struct SimParams {
@@ -104,6 +185,8 @@ struct SimParams {
   std::vector<FluidBlock> fluidBlocks;
   std::vector<EmitterParams> emitters;
   std::vector<SinkParams> sinks;
+  std::vector<BodyParams> bodies;
+  CollisionParams collisions;
   TimeStepParams timeStep;
 };
 

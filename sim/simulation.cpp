@@ -19,9 +19,14 @@ std::string_view stageName(Stage stage) {
   switch (stage) {
     case Stage::Sort: return "neighbour_sort";
     case Stage::Density: return "density";
+    case Stage::TelescopicDensity: return "telescopic_density";
     case Stage::Pressure: return "pressure";
     case Stage::Forces: return "pressure_viscosity_forces";
+    case Stage::Springs: return "springs";
+    case Stage::Muscles: return "muscles";
     case Stage::Integrate: return "integrate";
+    case Stage::Pins: return "pins";
+    case Stage::Collisions: return "collisions";
     case Stage::Walls: return "walls";
     case Stage::Emitters: return "emitters";
     case Stage::Sinks: return "sinks";
@@ -35,6 +40,7 @@ class StageTimer {
 public:
   StageTimer(SimStats& stats, Stage stage) : stats_(stats), stage_(stage), start_(std::chrono::steady_clock::now()) {}
   ~StageTimer() {
+    ++stats_.stageCalls[size_t(stage_)];
     stats_.stageSeconds[size_t(stage_)] +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
@@ -54,6 +60,37 @@ float maxOver(size_t count, F&& f) {
         return m;
       },
       [](float a, float b) { return std::max(a, b); });
+}
+// Bodies displace the fluid they start in: lattice points of the fluid blocks closer than
+// (l + d_body) / 2 to a body particle are not created.
+void removeDisplacedFluid(const ParticleSet& p, float spacing, const std::vector<BodyParams>& bodies,
+                          std::vector<std::vector<Eigen::Vector3f>>& blocks) {
+  float largest = 0.0f;
+  for (const BodyParams& b : bodies) largest = std::max(largest, b.spacingMetres(spacing));
+  const float clearance = 0.5f * (spacing + largest) * 0.999f;
+  const float cell = clearance;
+  auto coord = [cell](float v) { return int64_t(std::floor(v / cell)); };
+  auto key = [](int64_t cx, int64_t cy, int64_t cz) {
+    return uint64_t(cx & 0x1FFFFF) << 42 | uint64_t(cy & 0x1FFFFF) << 21 | uint64_t(cz & 0x1FFFFF);
+  };
+  std::vector<std::pair<uint64_t, uint32_t>> cells;
+  for (size_t i = 0; i < p.size(); ++i) cells.emplace_back(key(coord(p.x[i]), coord(p.y[i]), coord(p.z[i])), uint32_t(i));
+  std::sort(cells.begin(), cells.end());
+  for (std::vector<Eigen::Vector3f>& points : blocks)
+    std::erase_if(points, [&](const Eigen::Vector3f& q) {
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const uint64_t k = key(coord(q.x()) + dx, coord(q.y()) + dy, coord(q.z()) + dz);
+            for (auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(k, uint32_t(0)));
+                 it != cells.end() && it->first == k; ++it) {
+              const size_t i = it->second;
+              const float ddx = p.x[i] - q.x(), ddy = p.y[i] - q.y(), ddz = p.z[i] - q.z();
+              if (ddx * ddx + ddy * ddy + ddz * ddz < clearance * clearance) return true;
+            }
+          }
+      return false;
+    });
 }
 }  // namespace
 
@@ -83,7 +120,11 @@ Simulation::Simulation(SimParams params)
     emitters_.emplace_back(e, fluid.spacing);
     expected += emitters_.back().expectedTotal();
   }
-  particles_.reserve(expected);
+  if (!params_.bodies.empty()) {
+    bodies_ = std::make_unique<BodySystem>(params_, particles_, nextId_);  // body ids first
+    removeDisplacedFluid(particles_, fluid.spacing, params_.bodies, blockPoints);
+  }
+  particles_.reserve(particles_.size() + expected);
   for (const std::vector<Eigen::Vector3f>& points : blockPoints)
     for (const Eigen::Vector3f& q : points)
       particles_.add(q.x(), q.y(), q.z(), 0, 0, 0, fluid.restDensity, fluidMass_, nextId_++, 0);
@@ -97,9 +138,14 @@ void Simulation::sortParticles() {
 
 void Simulation::computeAccelerations() {
   sortParticles();
+  if (bodies_) bodies_->index(particles_);
   {
     StageTimer timer(stats_, Stage::Density);
     computeDensity(grid_, particles_, poly6_, neighbors_, wallSums_);
+  }
+  if (bodies_ && bodies_->hasTelescopicDensity()) {
+    StageTimer timer(stats_, Stage::TelescopicDensity);
+    bodies_->updateRestDensity(particles_);  // (4)-(5)
   }
   {
     StageTimer timer(stats_, Stage::Pressure);
@@ -115,6 +161,18 @@ void Simulation::computeAccelerations() {
   }
 }
 
+void Simulation::addBodyForces(float dt) {
+  if (!bodies_) return;
+  {
+    StageTimer timer(stats_, Stage::Springs);
+    bodies_->addSpringForces(particles_, dt);  // (9)
+  }
+  if (bodies_->hasMuscles()) {
+    StageTimer timer(stats_, Stage::Muscles);
+    bodies_->addMuscleForces(particles_, time_);
+  }
+}
+
 void Simulation::integrate(float dt, double newTime) {
   {
     StageTimer timer(stats_, Stage::Integrate);
@@ -126,6 +184,14 @@ void Simulation::integrate(float dt, double newTime) {
         p.x[i] += p.vx[i] * dt; p.y[i] += p.vy[i] * dt; p.z[i] += p.vz[i] * dt;
       }
     });
+  }
+  if (bodies_ && bodies_->hasPins()) {
+    StageTimer timer(stats_, Stage::Pins);
+    bodies_->applyPins(particles_);
+  }
+  if (bodies_) {
+    StageTimer timer(stats_, Stage::Collisions);
+    bodies_->collide(particles_, params_.collisions.maxPasses);  // (14)
   }
   {
     StageTimer timer(stats_, Stage::Walls);
@@ -151,6 +217,7 @@ void Simulation::integrate(float dt, double newTime) {
 
 void Simulation::step(float dt) {
   computeAccelerations();
+  addBodyForces(dt);
   integrate(dt, time_ + dt);
 }
 
@@ -168,6 +235,7 @@ StepLimit Simulation::nextStepLimit() const {
   in.maxAcceleration = std::sqrt(maxOver(p.size(), [&](size_t i) {
     return p.ax[i] * p.ax[i] + p.ay[i] * p.ay[i] + p.az[i] * p.az[i];
   }));
+  if (bodies_) in.springStep = bodies_->springStep();
   return adaptiveStep(ts, in);
 }
 
@@ -177,6 +245,7 @@ StepLimit Simulation::stabilityLimit() const {
   in.speedOfSound = params_.fluid.speedOfSound();
   in.kinematicViscosity = params_.fluid.kinematicViscosity;
   in.maxAcceleration = params_.gravity.norm();
+  if (bodies_) in.springStep = bodies_->springStep();
   return stabilityBound(params_.timeStep, in);
 }
 
@@ -189,7 +258,7 @@ size_t Simulation::memoryBytes() const {
     return b + p.id.capacity() * sizeof(int64_t) + p.kind.capacity() * sizeof(int32_t);
   };
   return setBytes(particles_) + setBytes(scratch_) + grid_.memoryBytes() + neighbors_.memoryBytes() +
-         order_.capacity() * sizeof(uint32_t);
+         order_.capacity() * sizeof(uint32_t) + (bodies_ ? bodies_->memoryBytes() : 0);
 }
 
 void Simulation::advanceTo(double t) {
@@ -207,6 +276,7 @@ void Simulation::advanceTo(double t) {
     if (remaining <= dt) dt = float(remaining);                    // land exactly on the frame
     else if (remaining < 1.5 * dt) dt = float(0.5 * remaining);    // avoid a sliver step
     ++stats_.boundCounts[size_t(limit.bound)];
+    addBodyForces(dt);
     integrate(dt, remaining <= limit.step ? t : time_ + dt);  // frames land on their exact time
     const float vmax = maxOver(particles_.size(), [&](size_t i) {
       const float s = std::fabs(particles_.vx[i]) + std::fabs(particles_.vy[i]) + std::fabs(particles_.vz[i]);

@@ -1,11 +1,14 @@
 // One simulation: particles, neighbour grid and parameters, advanced in the paper's step order
 // (SPEC §4). Owns all of its state; several simulations can live in one process.
 //
-// Step (fluid only so far): 1-2 sort into buckets, 3 density, 6 pressure, 7-8 pressure and
-// viscosity forces, 10 gravity, 11 acceleration, 12 v += a dt, 13 x += v dt (symplectic Euler),
-// 15 walls; then emitters add and sinks remove fluid particles (only when the scene has them).
+// Step: 1-2 sort into buckets, 3 density, 4-5 rest density of telescopic bodies, 6 pressure,
+// 7-8 pressure and viscosity forces, 9 springs (and muscles), 10 gravity, 11 acceleration,
+// 12 v += a dt, 13 x += v dt (symplectic Euler), pins, 14 the bodies' collision loop, 15 walls;
+// then emitters add and sinks remove fluid particles. Each stage runs only when the scene needs
+// it (no bodies: no body stage; no muscles: no muscle stage; ...) and its time is recorded.
 #pragma once
 
+#include "sim/bodies.h"
 #include "sim/boundary.h"
 #include "sim/emitter.h"
 #include "sim/fluid.h"
@@ -29,7 +32,10 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-enum class Stage { Sort, Density, Pressure, Forces, Integrate, Walls, Emitters, Sinks, Count };
+enum class Stage {
+  Sort, Density, TelescopicDensity, Pressure, Forces, Springs, Muscles, Integrate, Pins, Collisions, Walls,
+  Emitters, Sinks, Count
+};
 std::string_view stageName(Stage stage);
 
 struct SimStats {
@@ -38,10 +44,11 @@ struct SimStats {
   double maxStep = 0.0;
   std::array<uint64_t, size_t(StepBound::Count)> boundCounts{};
   std::array<double, size_t(Stage::Count)> stageSeconds{};  // wall time per stage
+  std::array<uint64_t, size_t(Stage::Count)> stageCalls{};  // times each stage ran
   uint64_t emitted = 0;         // particles spawned by emitters
   uint64_t emitterBlocked = 0;  // emitter positions skipped because a particle was there
   uint64_t removed = 0;         // particles removed by sinks
-  bool stageRan(Stage s) const { return stageSeconds[size_t(s)] > 0.0; }
+  bool stageRan(Stage s) const { return stageCalls[size_t(s)] > 0; }
 };
 
 class Simulation {
@@ -56,6 +63,8 @@ public:
   double time() const { return time_; }
   const SimStats& stats() const { return stats_; }
   float fluidParticleMass() const { return fluidMass_; }
+  // The telescopic bodies, or null for a scene without bodies.
+  const BodySystem* bodies() const { return bodies_.get(); }
   // Neighbours found by the last density pass (mean count = totalCount / particles).
   const NeighborLists& neighbors() const { return neighbors_; }
 
@@ -78,6 +87,7 @@ public:
 private:
   void sortParticles();
   void computeAccelerations();
+  void addBodyForces(float dt);
   void integrate(float dt, double newTime);
 
   SimParams params_;
@@ -90,6 +100,7 @@ private:
   SpikyKernel spiky_;
   ViscosityKernel viscosity_;
   std::unique_ptr<WallWeights> wallWeights_;
+  std::unique_ptr<BodySystem> bodies_;
   WallSums wallSums_;
   std::vector<float> correction_;  // kernel gradient correction, 6 floats per particle
   std::vector<Emitter> emitters_;

@@ -28,7 +28,7 @@ StepLimit adaptiveStep(const TimeStepParams& params, const StepInputs& in) {
     consider(params.viscousFactor * in.supportRadius * in.supportRadius / in.kinematicViscosity, StepBound::Viscous);
   if (in.maxAcceleration > 0.0f)
     consider(params.forceFactor * std::sqrt(in.supportRadius / in.maxAcceleration), StepBound::Force);
-  if (in.springStep > 0.0f) consider(params.cflFactor * in.springStep, StepBound::Spring);
+  if (in.springStep > 0.0f) consider(params.springFactor * in.springStep, StepBound::Spring);
   return limit;
 }
 

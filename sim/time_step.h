@@ -2,7 +2,8 @@
 //   CFL:      dt <= c_cfl  * h / (c + |v|max),  c = sqrt(k_press)
 //   viscous:  dt <= c_visc * h^2 / nu
 //   force:    dt <= c_f    * sqrt(h / |a|max)
-//   spring:   dt <= c_spr  * sqrt(m / k_eff) of the stiffest body (when bodies exist)
+//   spring:   dt <= c_spr  * min_i min(sqrt(2 m_i / K_i), m_i / D_i) over body particles, K_i and D_i
+//             the sums of k and d over particle i's springs (explicit spring and damper stability)
 // and the user's maximum step. The active bound is reported so users can see what limits speed.
 #pragma once
 
@@ -28,7 +29,7 @@ struct StepInputs {
   float kinematicViscosity = 0.0f;
   float maxSpeed = 0.0f;       // m/s
   float maxAcceleration = 0.0f;  // m/s^2
-  float springStep = 0.0f;     // sqrt(m / k_eff) of the stiffest spring, s; 0 when no springs
+  float springStep = 0.0f;     // the bound above before the factor, s; 0 when there are no springs
 };
 
 // The adaptive step and the bound that set it (the smallest of the bounds above).

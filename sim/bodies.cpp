@@ -1,0 +1,375 @@
+#include "sim/bodies.h"
+
+#include "sim/fluid.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+
+namespace kurage::sim {
+
+float ForceCurve::at(double t) const {
+  if (type == CurveType::Keys) {
+    if (keys.empty()) return 0.0f;
+    if (t <= keys.front().time) return keys.front().value;
+    for (size_t k = 1; k < keys.size(); ++k)
+      if (t < keys[k].time) {
+        const double u = (t - keys[k - 1].time) / (keys[k].time - keys[k - 1].time);
+        return float(keys[k - 1].value + u * (keys[k].value - keys[k - 1].value));
+      }
+    return keys.back().value;
+  }
+  if (t < start || period <= 0.0f) return 0.0f;
+  const double cycle = std::floor((t - start) / period);
+  if (start + cycle * period >= end) return 0.0f;
+  const double phase = t - start - cycle * period;  // s into this pulse
+  const double on = double(duty) * period;
+  if (phase >= on) return 0.0f;
+  const double r = std::min(double(ramp), 0.5 * on);
+  double shape = 1.0;
+  if (r > 0.0) shape = std::min({1.0, phase / r, (on - phase) / r});
+  return float(amplitude * shape);
+}
+
+namespace {
+
+std::string str(float v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+// Calls f(a, b) for every pair of points closer than `radius` (a sweep along x).
+template <class F>
+void forPairsWithin(const std::vector<Eigen::Vector3f>& points, float radius, F&& f) {
+  std::vector<uint32_t> order(points.size());
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return points[a].x() < points[b].x(); });
+  for (size_t s = 0; s < order.size(); ++s)
+    for (size_t t = s + 1; t < order.size(); ++t) {
+      if (points[order[t]].x() - points[order[s]].x() >= radius) break;
+      if ((points[order[t]] - points[order[s]]).squaredNorm() < radius * radius) f(order[s], order[t]);
+    }
+}
+
+struct BuiltBodies {
+  std::vector<BodyPoints> points;
+  std::vector<int64_t> firstId;  // id of each body's first particle
+  std::vector<SpringPair> pairs;
+  size_t count = 0;
+};
+
+// Particles, ids and springs of every body (with muscle bits), and the problems found on the way.
+BuiltBodies buildBodies(const SimParams& params, std::vector<BodyProblem>& problems) {
+  BuiltBodies built;
+  const float l = params.fluid.spacing;
+  for (const BodyParams& body : params.bodies) {
+    built.firstId.push_back(int64_t(built.count));
+    built.points.push_back(bodyPoints(body, l));
+    built.count += built.points.back().positions.size();
+  }
+  int muscleBit = 0;
+  for (size_t b = 0; b < params.bodies.size(); ++b) {
+    const BodyParams& body = params.bodies[b];
+    const BodyPoints& pts = built.points[b];
+    if (pts.positions.empty()) {
+      problems.push_back({b, "", "the shape yields no particle at spacing " + str(body.spacingMetres(l)) + " m"});
+      continue;
+    }
+    std::vector<int64_t> ids(pts.positions.size());
+    std::iota(ids.begin(), ids.end(), built.firstId[b]);
+    std::vector<SpringPair> pairs = springPairsWithin(pts.positions, ids, body.connectionRadius * l, uint16_t(b));
+    // A chain hangs from the particles of `attach_to` within its connection radius of its start.
+    if (body.shape == BodyShape::Chain) {
+      const auto target = std::find_if(params.bodies.begin(), params.bodies.end(),
+                                       [&](const BodyParams& o) { return o.name == body.attachTo && &o != &body; });
+      if (body.attachTo.empty()) {
+        // a free chain
+      } else if (target == params.bodies.end()) {
+        problems.push_back({b, "attach_to", "no other body is named \"" + body.attachTo + "\""});
+      } else {
+        const size_t t = size_t(target - params.bodies.begin());
+        size_t joined = 0;
+        for (size_t k = 0; k < built.points[t].positions.size(); ++k) {
+          const float d = (built.points[t].positions[k] - pts.positions[0]).norm();
+          if (d < body.connectionRadius * l && d > 0.0f) {
+            pairs.push_back({built.firstId[b], built.firstId[t] + int64_t(k), d, uint16_t(b), 0});
+            ++joined;
+          }
+        }
+        if (!joined)
+          problems.push_back({b, "attach_to", "no particle of \"" + body.attachTo + "\" lies within the connection radius " +
+                                                  str(body.connectionRadius * l) + " m of the chain's start"});
+      }
+    }
+    if (pairs.empty() && pts.positions.size() > 1) {
+      problems.push_back({b, "connection_radius", "joins no spring: h_spr = " + str(body.connectionRadius * l) +
+                                                      " m is below the particle spacing " + str(body.spacingMetres(l)) + " m"});
+    } else if (pts.positions.size() > 1) {
+      std::vector<uint8_t> joined(pts.positions.size(), 0);
+      for (const SpringPair& p : pairs) {
+        if (p.a >= built.firstId[b] && p.a < built.firstId[b] + int64_t(ids.size())) joined[size_t(p.a - built.firstId[b])] = 1;
+        if (p.b >= built.firstId[b] && p.b < built.firstId[b] + int64_t(ids.size())) joined[size_t(p.b - built.firstId[b])] = 1;
+      }
+      const size_t lonely = size_t(std::count(joined.begin(), joined.end(), 0));
+      if (lonely)
+        problems.push_back({b, "connection_radius", "leaves " + std::to_string(lonely) + " particle(s) without a spring"});
+    }
+    for (size_t m = 0; m < body.muscles.size(); ++m, ++muscleBit) {
+      const std::string field = "muscles[" + std::to_string(m) + "].springs";
+      if (muscleBit >= SpringNetwork::kMaxMuscles) {
+        problems.push_back({b, "muscles[" + std::to_string(m) + "]", "more than 32 muscles in the scene"});
+        continue;
+      }
+      size_t members = 0;
+      for (SpringPair& p : pairs) {
+        const int64_t first = built.firstId[b], last = first + int64_t(ids.size());
+        if (p.a < first || p.a >= last || p.b < first || p.b >= last) continue;  // attachment springs
+        if (selected(body.muscles[m].springs, pts, size_t(p.a - first)) &&
+            selected(body.muscles[m].springs, pts, size_t(p.b - first))) {
+          p.muscles |= 1u << muscleBit;
+          ++members;
+        }
+      }
+      if (!members) problems.push_back({b, field, "selects no spring (both ends of a spring must be selected)"});
+    }
+    for (size_t k = 0; k < body.pins.size(); ++k) {
+      size_t members = 0;
+      for (size_t i = 0; i < pts.positions.size(); ++i) members += selected(body.pins[k], pts, i);
+      if (!members) problems.push_back({b, "pins[" + std::to_string(k) + "]", "selects no particle"});
+    }
+    built.pairs.insert(built.pairs.end(), pairs.begin(), pairs.end());
+  }
+  return built;
+}
+
+}  // namespace
+
+std::vector<BodyProblem> checkBodies(const SimParams& params) {
+  std::vector<BodyProblem> problems;
+  const BuiltBodies built = buildBodies(params, problems);
+  const float l = params.fluid.spacing;
+  const ContainerParams& box = params.container;
+  for (size_t b = 0; b < params.bodies.size(); ++b)
+    for (const Eigen::Vector3f& q : built.points[b].positions)
+      if ((q.array() < box.min.array()).any() || (q.array() > box.max.array()).any()) {
+        std::ostringstream s;
+        s << "a particle at [" << q.x() << ", " << q.y() << ", " << q.z() << "] lies outside the container";
+        problems.push_back({b, "", s.str()});
+        break;
+      }
+  // Bodies overlapping one another: particles closer than their mean diameter.
+  std::vector<Eigen::Vector3f> all;
+  std::vector<uint32_t> owner;
+  float largest = 0.0f;
+  for (size_t b = 0; b < params.bodies.size(); ++b) {
+    for (const Eigen::Vector3f& q : built.points[b].positions) {
+      all.push_back(q);
+      owner.push_back(uint32_t(b));
+    }
+    largest = std::max(largest, params.bodies[b].spacingMetres(l));
+  }
+  std::vector<std::pair<uint32_t, uint32_t>> overlaps;
+  forPairsWithin(all, largest, [&](uint32_t a, uint32_t c) {
+    if (owner[a] == owner[c]) return;
+    const float d = 0.5f * (params.bodies[owner[a]].spacingMetres(l) + params.bodies[owner[c]].spacingMetres(l));
+    if ((all[a] - all[c]).norm() < 0.999f * d) overlaps.emplace_back(std::min(owner[a], owner[c]), std::max(owner[a], owner[c]));
+  });
+  std::sort(overlaps.begin(), overlaps.end());
+  overlaps.erase(std::unique(overlaps.begin(), overlaps.end()), overlaps.end());
+  for (const auto& [a, c] : overlaps)
+    problems.push_back({c, "", "overlaps bodies[" + std::to_string(a) + "] (\"" + params.bodies[a].name +
+                                   "\"): particles closer than their diameter at the start"});
+  for (size_t b = 0; b < params.bodies.size(); ++b)
+    for (size_t o = 0; o < b; ++o)
+      if (params.bodies[o].name == params.bodies[b].name)
+        problems.push_back({b, "name", "\"" + params.bodies[b].name + "\" is also the name of bodies[" + std::to_string(o) + "]"});
+  return problems;
+}
+
+BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t& nextId) {
+  if (nextId != 0) throw std::invalid_argument("bodies: body particles must be created first");
+  std::vector<BodyProblem> problems;
+  BuiltBodies built = buildBodies(params, problems);
+  if (!problems.empty())
+    throw std::invalid_argument("bodies[" + std::to_string(problems[0].body) + "]" +
+                                (problems[0].field.empty() ? "" : "." + problems[0].field) + ": " + problems[0].message);
+  const float l = params.fluid.spacing, h = params.fluid.supportRadiusMetres();
+  bodyOf_.reserve(built.count);
+  for (size_t b = 0; b < params.bodies.size(); ++b) {
+    const BodyParams& body = params.bodies[b];
+    // Each phase's mass is calibrated at its own spacing and rest density (SPEC §1).
+    mass_.push_back(calibratedParticleMass(body.spacingMetres(l), h, body.restDensity()));
+    restDensity_.push_back(body.restDensity());
+    telescopicBody_.push_back(body.telescopicDensity);
+    telescopic_ = telescopic_ || body.telescopicDensity;
+    groups_.push_back({body.stiffness, body.damping});
+    const BodyPoints& pts = built.points[b];
+    for (size_t k = 0; k < pts.positions.size(); ++k) {
+      const Eigen::Vector3f& q = pts.positions[k];
+      particles.add(q.x(), q.y(), q.z(), 0, 0, 0, body.restDensity(), mass_[b], nextId++, int32_t(b + 1));
+      bodyOf_.push_back(int32_t(b));
+      diameter_.push_back(body.spacingMetres(l));
+      bool pin = false;
+      for (const Selection& s : body.pins) pin = pin || selected(s, pts, k);
+      pinned_.push_back(pin);
+      if (pin) {
+        pinnedIds_.push_back(int64_t(bodyOf_.size() - 1));
+        pinnedAt_.push_back(q);
+      }
+    }
+    for (const MuscleParams& m : body.muscles) muscles_.push_back({m.force});
+  }
+  muscleForces_.assign(muscles_.size(), 0.0f);
+  lengthRatio_.assign(built.count, 1.0f);
+  springs_ = SpringNetwork::fromPairs(built.pairs);
+  // Explicit stability of each particle's springs and dampers (Gershgorin bounds).
+  springStep_ = 0.0f;
+  for (size_t id = 0; id < built.count; ++id) {
+    double k = 0.0, d = 0.0;
+    for (const SpringNetwork::End* s = springs_.begin(int64_t(id)); s != springs_.end(int64_t(id)); ++s) {
+      k += groups_[s->group].stiffness;
+      d += groups_[s->group].damping;
+    }
+    const double m = mass_[size_t(bodyOf_[id])];
+    double step = std::numeric_limits<double>::infinity();
+    if (k > 0.0) step = std::min(step, std::sqrt(2.0 * m / k));
+    if (d > 0.0) step = std::min(step, m / d);
+    if (std::isfinite(step) && (springStep_ == 0.0f || step < springStep_)) springStep_ = float(step);
+  }
+  indexOfId_.assign(built.count, UINT32_MAX);
+}
+
+size_t BodySystem::memoryBytes() const {
+  return springs_.memoryBytes() + indexOfId_.capacity() * 4 + bodyOf_.capacity() * 4 + diameter_.capacity() * 4 +
+         lengthRatio_.capacity() * 4 + pinned_.capacity() + cellOrder_.capacity() * sizeof(cellOrder_[0]);
+}
+
+void BodySystem::index(const ParticleSet& p) {
+  const int64_t count = int64_t(indexOfId_.size());
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.id[i] < count) indexOfId_[size_t(p.id[i])] = uint32_t(i);
+}
+
+void BodySystem::updateRestDensity(ParticleSet& p) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, indexOfId_.size(), 256), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t id = r.begin(); id != r.end(); ++id) {
+      const size_t b = size_t(bodyOf_[id]);
+      if (!telescopicBody_[b]) continue;
+      const size_t i = indexOfId_[id];
+      const float leng = lengthRatio(springs_, p, indexOfId_, i);  // (8)-(9)
+      lengthRatio_[id] = leng;
+      p.restDensity[i] = leng * leng * leng * restDensity_[b];  // (10), rho0 <- L^dens rho0
+    }
+  });
+}
+
+void BodySystem::addSpringForces(ParticleSet& p, float dt) const {
+  addSpringAccelerations(springs_, groups_, dt, p, indexOfId_);
+}
+
+void BodySystem::addMuscleForces(ParticleSet& p, double t) {
+  bool any = false;
+  for (size_t m = 0; m < muscles_.size(); ++m) {
+    muscleForces_[m] = muscles_[m].force.at(t);
+    any = any || muscleForces_[m] != 0.0f;
+  }
+  if (any) addMuscleAccelerations(springs_, muscleForces_.data(), p, indexOfId_);
+}
+
+void BodySystem::applyPins(ParticleSet& p) const {
+  for (size_t k = 0; k < pinnedIds_.size(); ++k) {
+    const size_t i = indexOfId_[size_t(pinnedIds_[k])];
+    p.x[i] = pinnedAt_[k].x(); p.y[i] = pinnedAt_[k].y(); p.z[i] = pinnedAt_[k].z();
+    p.vx[i] = p.vy[i] = p.vz[i] = 0.0f;
+  }
+}
+
+namespace {
+constexpr int kCellBits = 21;
+constexpr int64_t kCellBias = int64_t(1) << (kCellBits - 1);
+uint64_t cellKey(int64_t cx, int64_t cy, int64_t cz) {
+  const uint64_t mask = (uint64_t(1) << kCellBits) - 1;
+  return (uint64_t(cx + kCellBias) & mask) << (2 * kCellBits) | (uint64_t(cy + kCellBias) & mask) << kCellBits |
+         (uint64_t(cz + kCellBias) & mask);
+}
+}  // namespace
+
+// One Gauss-Seidel pass over all body particles: every pair closer than its collision diameter
+// (d_i + d_j) / 2 with d_i = d0 / L_i^leng, not joined by a spring, is pushed apart to exactly
+// that distance (mass-weighted; pinned particles do not move) and its approaching normal velocity
+// removed (a fully inelastic penalty impulse). Candidates come from the particle's own and the 26
+// adjacent cells of a grid whose cell is the largest diameter. Returns the pairs resolved.
+int BodySystem::collisionPass(ParticleSet& p) {
+  const size_t count = indexOfId_.size();
+  float cell = 0.0f;
+  for (size_t id = 0; id < count; ++id) cell = std::max(cell, diameter_[id] / lengthRatio_[id]);
+  if (!(cell > 0.0f)) return 0;
+  auto cellOf = [&](size_t i, int axis) {
+    const float v = axis == 0 ? p.x[i] : axis == 1 ? p.y[i] : p.z[i];
+    return int64_t(std::floor(v / cell));
+  };
+  cellOrder_.resize(count);
+  for (size_t id = 0; id < count; ++id) {
+    const size_t i = indexOfId_[id];
+    cellOrder_[id] = {cellKey(cellOf(i, 0), cellOf(i, 1), cellOf(i, 2)), uint32_t(id)};
+  }
+  std::sort(cellOrder_.begin(), cellOrder_.end());
+  int resolved = 0;
+  for (size_t n = 0; n < count; ++n) {
+    const uint32_t a = cellOrder_[n].second;
+    const size_t i = indexOfId_[a];
+    const int64_t cx = cellOf(i, 0), cy = cellOf(i, 1), cz = cellOf(i, 2);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const uint64_t key = cellKey(cx + dx, cy + dy, cz + dz);
+          auto it = std::lower_bound(cellOrder_.begin(), cellOrder_.end(), std::make_pair(key, uint32_t(0)));
+          for (; it != cellOrder_.end() && it->first == key; ++it) {
+            const uint32_t b = it->second;
+            if (b <= a || springs_.connected(a, b)) continue;
+            const size_t j = indexOfId_[b];
+            const float contact = 0.5f * (diameter_[a] / lengthRatio_[a] + diameter_[b] / lengthRatio_[b]);
+            Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
+            const float r = d.norm();
+            if (r >= contact * (1.0f - 1e-4f)) continue;
+            const float wi = pinned_[a] ? 0.0f : 1.0f / p.mass[i];
+            const float wj = pinned_[b] ? 0.0f : 1.0f / p.mass[j];
+            if (wi + wj <= 0.0f) continue;
+            const Eigen::Vector3f normal = r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitX();  // i above j in id
+            const float push = (contact - r) / (wi + wj);
+            p.x[i] += push * wi * normal.x(); p.y[i] += push * wi * normal.y(); p.z[i] += push * wi * normal.z();
+            p.x[j] -= push * wj * normal.x(); p.y[j] -= push * wj * normal.y(); p.z[j] -= push * wj * normal.z();
+            const float approach = (p.vx[i] - p.vx[j]) * normal.x() + (p.vy[i] - p.vy[j]) * normal.y() +
+                                   (p.vz[i] - p.vz[j]) * normal.z();
+            if (approach < 0.0f) {
+              const float impulse = -approach / (wi + wj);
+              p.vx[i] += impulse * wi * normal.x(); p.vy[i] += impulse * wi * normal.y(); p.vz[i] += impulse * wi * normal.z();
+              p.vx[j] -= impulse * wj * normal.x(); p.vy[j] -= impulse * wj * normal.y(); p.vz[j] -= impulse * wj * normal.z();
+            }
+            ++resolved;
+          }
+        }
+  }
+  return resolved;
+}
+
+void BodySystem::collide(ParticleSet& p, int maxPasses) {
+  int passes = 0;
+  int found = 0;
+  do {
+    found = collisionPass(p);
+    ++passes;
+    stats_.collisionsResolved += uint64_t(found);
+  } while (found > 0 && passes < maxPasses);
+  stats_.collisionPasses += uint64_t(passes);
+  stats_.mostPasses = std::max(stats_.mostPasses, passes);
+  if (found > 0) ++stats_.capHits;
+}
+
+}  // namespace kurage::sim

@@ -1,0 +1,97 @@
+// The telescopic deformable bodies of a simulation (SPEC §3): their springs, stretch-following
+// rest density, muscles, pins and collisions. A Simulation holds one only when its scene has
+// bodies, so a fluid-only scene allocates no spring data and runs none of these stages.
+//
+// Body particles get the ids 0 .. count-1 (before any fluid particle), so per-body data is
+// indexed by id; `index()` maps ids to the current (cell-sorted) positions after every sort.
+#pragma once
+
+#include "sim/body_shapes.h"
+#include "sim/params.h"
+#include "sim/particles.h"
+#include "sim/springs.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace kurage::sim {
+
+// A scene error in bodies[body]: `field` is the key below it ("" for the body itself).
+struct BodyProblem {
+  size_t body = 0;
+  std::string field;
+  std::string message;
+};
+
+// Checks every body before any work: a shape that yields no particle, a connection radius that
+// joins no spring or leaves particles unconnected, a body outside the container or overlapping
+// another body, a pin or muscle that selects nothing, a chain hung from a missing body.
+std::vector<BodyProblem> checkBodies(const SimParams& params);
+
+struct BodyStats {
+  uint64_t collisionPasses = 0;     // passes of the collision loop, all steps
+  uint64_t collisionsResolved = 0;  // pairs pushed apart
+  uint64_t capHits = 0;             // steps whose loop stopped at the cap with collisions left
+  int mostPasses = 0;               // most passes in one step
+};
+
+class BodySystem {
+public:
+  // Appends the bodies' particles to `particles` with ids nextId, nextId + 1, ... (nextId must be
+  // 0: body ids come first) and builds their springs. Throws std::invalid_argument for bodies
+  // that checkBodies() refuses.
+  BodySystem(const SimParams& params, ParticleSet& particles, int64_t& nextId);
+
+  size_t particleCount() const { return pinned_.size(); }
+  size_t springCount() const { return springs_.springCount(); }
+  float particleMass(size_t body) const { return mass_[body]; }
+  float restDensity(size_t body) const { return restDensity_[body]; }
+  // The step bound of the stiffest spring: min_i min(sqrt(2 m_i / K_i), m_i / D_i) with K_i, D_i
+  // the sums of k and d over particle i's springs (explicit spring and damper stability).
+  float springStep() const { return springStep_; }
+  bool hasTelescopicDensity() const { return telescopic_; }
+  bool hasMuscles() const { return !muscles_.empty(); }
+  bool hasPins() const { return !pinnedIds_.empty(); }
+  const BodyStats& stats() const { return stats_; }
+  size_t memoryBytes() const;
+
+  // Maps ids to sorted positions; call after every re-sort.
+  void index(const ParticleSet& particles);
+  // (8)-(10): rho0_i = (L_i^leng)^3 rho0_body for the bodies with telescopic density.
+  void updateRestDensity(ParticleSet& particles);
+  // (7) spring-damper forces for a step of dt.
+  void addSpringForces(ParticleSet& particles, float dt) const;
+  // Muscle forces at time t.
+  void addMuscleForces(ParticleSet& particles, double t);
+  // Holds pinned particles at their initial positions, at rest.
+  void applyPins(ParticleSet& particles) const;
+  // (14) The collision loop between body particles not joined by a spring (SPEC §3.4).
+  void collide(ParticleSet& particles, int maxPasses);
+
+private:
+  struct Muscle {
+    ForceCurve force;
+  };
+  int collisionPass(ParticleSet& particles);
+
+  std::vector<float> mass_, restDensity_;  // per body
+  std::vector<uint8_t> telescopicBody_;    // per body
+  std::vector<SpringGroup> groups_;        // per body
+  SpringNetwork springs_;
+  std::vector<Muscle> muscles_;
+  std::vector<float> muscleForces_;
+  std::vector<int32_t> bodyOf_;            // per id
+  std::vector<float> diameter_;            // per id: d0 of its body
+  std::vector<float> lengthRatio_;         // per id: L^leng (1 without telescopic density)
+  std::vector<uint8_t> pinned_;            // per id
+  std::vector<int64_t> pinnedIds_;
+  std::vector<Eigen::Vector3f> pinnedAt_;
+  std::vector<uint32_t> indexOfId_;
+  std::vector<std::pair<uint64_t, uint32_t>> cellOrder_;  // collision grid scratch: (cell key, id)
+  bool telescopic_ = false;
+  float springStep_ = 0.0f;
+  BodyStats stats_;
+};
+
+}  // namespace kurage::sim
