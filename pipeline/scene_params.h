@@ -15,6 +15,7 @@ inline const EnumTable<sim::WallSlip> kWallSlip{{"no_slip", sim::WallSlip::NoSli
                                                 {"free_slip", sim::WallSlip::FreeSlip}};
 inline const EnumTable<sim::PressureForce> kPressureForce{{"mueller2003", sim::PressureForce::Mueller2003},
                                                           {"monaghan1992", sim::PressureForce::Monaghan1992}};
+inline const EnumTable<sim::DensitySum> kDensitySum{{"mass", sim::DensitySum::Mass}, {"volume", sim::DensitySum::Volume}};
 inline const EnumTable<sim::WallDensity> kWallDensity{{"none", sim::WallDensity::None},
                                                       {"wall_weight", sim::WallDensity::WallWeight}};
 inline const EnumTable<sim::TimeStepMode> kTimeStepMode{{"fixed", sim::TimeStepMode::Fixed},
@@ -39,6 +40,11 @@ void describe(V& v, sim::FluidParams& p) {
                 {"", "'mueller2003': the paper's (5), -sum m_j (p_i + p_j) / (2 rho_j) grad W, which recovers only "
                      "half of grad p (a fluid at rest carries about twice the physical pressure); 'monaghan1992': "
                      "-rho_i sum m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W, consistent and momentum-conserving"});
+  v.enumeration("density_sum", p.densitySum, kDensitySum,
+                {"", "'mass': the paper's (3), rho_i = sum m_j W; 'volume': rho_i = rho0_i sum (m_j / rho0_j) W, the "
+                     "same within one phase, but a particle at the interface of a fluid and a body of another "
+                     "density or spacing sees its own rest density instead of a spurious pressure "
+                     "(docs/PHYSICS.md)"});
   v.value("gradient_correction", p.gradientCorrection,
           {"", "with 'monaghan1992': correct each particle's kernel gradient (Bonet & Lok 1999) so that a linear "
                "pressure field's gradient is exact on a disordered neighbourhood; particles within h of a wall or "
@@ -88,6 +94,7 @@ inline const EnumTable<sim::BodyShape> kBodyShape{{"box", sim::BodyShape::Box},
 inline const EnumTable<sim::SelectionKind> kSelectionKind{{"all", sim::SelectionKind::All},
                                                           {"rim", sim::SelectionKind::Rim},
                                                           {"region", sim::SelectionKind::Region}};
+inline const EnumTable<sim::Damper> kDamper{{"implicit", sim::Damper::Implicit}, {"explicit", sim::Damper::Explicit}};
 inline const EnumTable<sim::CurveType> kCurveType{{"keys", sim::CurveType::Keys}, {"pulse", sim::CurveType::Pulse}};
 
 template <class V>
@@ -149,8 +156,14 @@ void describe(V& v, sim::BodyParams& p) {
                     "times should use 1/n)", {0.0, 4.0, false, true}});
   v.value("specific_gravity", p.specificGravity,
           {"", "initial rest density / 1000 kg/m^3 (paper: 1.1 membrane and jellyfish, 0.7 box)", positive()});
-  v.value("stiffness", p.stiffness, {"N/m", "spring coefficient k of (7) (paper: 30 membrane, 10 box, 50 jellyfish)", nonNegative()});
-  v.value("damping", p.damping, {"N s/m", "damper coefficient d of (7) (paper: 10, 15, 10)", nonNegative()});
+  v.value("stiffness", p.stiffness,
+          {"N/m", "spring coefficient k of (7); the paper's 30 (membrane), 10 (box), 50 (jellyfish) are for masses in "
+                  "tonnes, so 30000, 10000, 50000 here (docs/PHYSICS.md)", nonNegative()});
+  v.value("damping", p.damping,
+          {"N s/m", "damper coefficient d of (7); the paper's 10, 15, 10 likewise x 1000", nonNegative()});
+  v.enumeration("damper", p.damper, kDamper,
+                {"", "'implicit': each spring's damper decays its ends' relative velocity along it exactly over the step, so it never bounds the time "
+                     "step; 'explicit': (7) as written with the upwind length change (step < m / sum d)"});
   v.value("connection_radius", p.connectionRadius,
           {"l_avr", "h_spr: every pair closer than this at t = 0 is joined by a spring (paper: 2.1, 2.4, 4.1)", positive()});
   v.value("telescopic_density", p.telescopicDensity,

@@ -208,7 +208,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
     restDensity_.push_back(body.restDensity());
     telescopicBody_.push_back(body.telescopicDensity);
     telescopic_ = telescopic_ || body.telescopicDensity;
-    groups_.push_back({body.stiffness, body.damping});
+    groups_.push_back({body.stiffness, body.damping, body.damper == Damper::Implicit});
     const BodyPoints& pts = built.points[b];
     for (size_t k = 0; k < pts.positions.size(); ++k) {
       const Eigen::Vector3f& q = pts.positions[k];
@@ -234,7 +234,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
     double k = 0.0, d = 0.0;
     for (const SpringNetwork::End* s = springs_.begin(int64_t(id)); s != springs_.end(int64_t(id)); ++s) {
       k += groups_[s->group].stiffness;
-      d += groups_[s->group].damping;
+      if (!groups_[s->group].implicitDamper) d += groups_[s->group].damping;
     }
     const double m = mass_[size_t(bodyOf_[id])];
     double step = std::numeric_limits<double>::infinity();
@@ -269,8 +269,8 @@ void BodySystem::updateRestDensity(ParticleSet& p) {
   });
 }
 
-void BodySystem::addSpringForces(ParticleSet& p, float dt) const {
-  addSpringAccelerations(springs_, groups_, dt, p, indexOfId_);
+void BodySystem::addSpringForces(ParticleSet& p, float dt) {
+  addSpringAccelerations(springs_, groups_, dt, p, indexOfId_, predicted_);
 }
 
 void BodySystem::addMuscleForces(ParticleSet& p, double t) {
@@ -332,12 +332,12 @@ int BodySystem::collisionPass(ParticleSet& p) {
           auto it = std::lower_bound(cellOrder_.begin(), cellOrder_.end(), std::make_pair(key, uint32_t(0)));
           for (; it != cellOrder_.end() && it->first == key; ++it) {
             const uint32_t b = it->second;
-            if (b <= a || springs_.connected(a, b)) continue;
+            if (b <= a) continue;
             const size_t j = indexOfId_[b];
             const float contact = 0.5f * (diameter_[a] / lengthRatio_[a] + diameter_[b] / lengthRatio_[b]);
             Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
             const float r = d.norm();
-            if (r >= contact * (1.0f - 1e-4f)) continue;
+            if (r >= contact * (1.0f - 1e-4f) || springs_.connected(a, b)) continue;
             const float wi = pinned_[a] ? 0.0f : 1.0f / p.mass[i];
             const float wj = pinned_[b] ? 0.0f : 1.0f / p.mass[j];
             if (wi + wj <= 0.0f) continue;

@@ -61,7 +61,7 @@ public:
   // (8)-(10): rho0_i = (L_i^leng)^3 rho0_body for the bodies with telescopic density.
   void updateRestDensity(ParticleSet& particles);
   // (7) spring-damper forces for a step of dt.
-  void addSpringForces(ParticleSet& particles, float dt) const;
+  void addSpringForces(ParticleSet& particles, float dt);
   // Muscle forces at time t.
   void addMuscleForces(ParticleSet& particles, double t);
   // Holds pinned particles at their initial positions, at rest.
@@ -88,6 +88,7 @@ private:
   std::vector<int64_t> pinnedIds_;
   std::vector<Eigen::Vector3f> pinnedAt_;
   std::vector<uint32_t> indexOfId_;
+  std::vector<Eigen::Vector3f> predicted_;  // scratch of the implicit dampers
   std::vector<std::pair<uint64_t, uint32_t>> cellOrder_;  // collision grid scratch: (cell key, id)
   bool telescopic_ = false;
   float springStep_ = 0.0f;

@@ -9,13 +9,16 @@
 
 namespace kurage::sim {
 
-void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
-                    NeighborLists& neighbors, const WallSums& walls) {
+namespace {
+template <DensitySum Form>
+void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
+                 NeighborLists& neighbors, const WallSums& walls) {
   const size_t count = particles.size();
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
   const float* m = particles.mass.data();
+  const float* rho0 = particles.restDensity.data();
   float* rho = particles.density.data();
   const float h2 = poly6.h2;
   const std::vector<uint32_t>& cells = grid.cellOfSorted();
@@ -35,22 +38,33 @@ void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly
       buffer.resize(begin + candidates);  // capacity is kept between steps
       uint32_t* out = buffer.data() + begin;
       size_t found = 0;
-      float sum = m[i] * h2 * h2 * h2;  // the particle itself, r = 0
+      auto weight = [&](uint32_t j) { return Form == DensitySum::Mass ? m[j] : m[j] / rho0[j]; };
+      float sum = weight(uint32_t(i)) * h2 * h2 * h2;  // the particle itself, r = 0
       for (int r = 0; r < n; ++r)
         for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
           const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
           const float r2 = dx * dx + dy * dy + dz * dz;
           if (r2 >= h2 || j == i) continue;
           const float t = h2 - r2;
-          sum += m[j] * t * t * t;
+          sum += weight(j) * t * t * t;
           out[found++] = j;
         }
       buffer.resize(begin + found);
       neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));
-      rho[i] = poly6.coefficient * sum;  // (3)
-      if (walls.weights) rho[i] += boxWallContribution(*walls.weights, walls.box, poly6.h, xi, yi, zi).density;
+      const float scale = Form == DensitySum::Mass ? 1.0f : rho0[i];
+      rho[i] = scale * poly6.coefficient * sum;  // (3)
+      if (walls.weights)
+        rho[i] += (Form == DensitySum::Mass ? 1.0f : rho0[i] / walls.restDensity) *
+                  boxWallContribution(*walls.weights, walls.box, poly6.h, xi, yi, zi).density;
     }
   });
+}
+}  // namespace
+
+void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
+                    NeighborLists& neighbors, const WallSums& walls, DensitySum form) {
+  if (form == DensitySum::Mass) densityPass<DensitySum::Mass>(grid, particles, poly6, neighbors, walls);
+  else densityPass<DensitySum::Volume>(grid, particles, poly6, neighbors, walls);
 }
 
 void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure) {

@@ -19,10 +19,11 @@ struct WallSums {
   float restDensity = 1000.0f;  // rho0 of the virtual wall particles
 };
 
-// (3) rho_i = sum_j m_j W_poly6(r_ij) (+ the walls' Z(d)); also finds every particle's
-// neighbours (|r_ij| < h).
+// (3) rho_i = sum_j m_j W_poly6(r_ij) (+ the walls' Z(d)), or with DensitySum::Volume
+// rho_i = rho0_i sum_j (m_j / rho0_j) W_poly6(r_ij); also finds every particle's neighbours
+// (|r_ij| < h).
 void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
-                    NeighborLists& neighbors, const WallSums& walls);
+                    NeighborLists& neighbors, const WallSums& walls, DensitySum form = DensitySum::Mass);
 
 // (4) p_i = k_press (rho_i - rho0_i), clamped at zero when the scene asks for it (SPEC §8).
 void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure);

@@ -37,6 +37,13 @@ enum class WallDensity {
                // pressure contributions of a virtual particle lattice behind each wall
 };
 
+enum class DensitySum {
+  Mass,    // (3) as in the paper: rho_i = sum_j m_j W_ij
+  Volume,  // rho_i = rho0_i sum_j (m_j / rho0_j) W_ij: each neighbour counts by its rest volume, so a
+           // particle at the interface of two phases (fluid and a body of another density or spacing)
+           // sees its own rest density; identical to (3) within one phase
+};
+
 struct FluidParams {
   float spacing = 1.0f;             // l_avr, m (SPEC §2)
   float supportRadius = 1.5f;       // h / l_avr (SPEC §2: r_e = 1.5 l_avr)
@@ -50,6 +57,7 @@ struct FluidParams {
   // of a linear pressure field is exact on any neighbourhood. Particles within h of a wall or with
   // a degenerate neighbourhood (free surface) keep the plain gradient.
   bool gradientCorrection = false;
+  DensitySum densitySum = DensitySum::Mass;
 
   float supportRadiusMetres() const { return supportRadius * spacing; }
   float speedOfSound() const { return std::sqrt(pressureStiffness); }  // m/s
@@ -146,6 +154,11 @@ struct MuscleParams {
   ForceCurve force;
 };
 
+enum class Damper {
+  Implicit,  // (7)'s damper on the relative velocity along each spring, solved exactly per spring (any step)
+  Explicit,  // (7) as written: upwind length change, explicit (the step must stay below m / sum d)
+};
+
 struct BodyParams {
   std::string name = "body";
   BodyShape shape = BodyShape::Box;
@@ -161,9 +174,10 @@ struct BodyParams {
   std::string attachTo;             // chain: the body whose particles near the chain's start hold it
   float spacing = 0.5f;             // body particle spacing (diameter) / l_avr (SPEC §3.2, paper 0.5)
   float specificGravity = 1.1f;     // rho0_body / 1000 kg/m^3
-  float stiffness = 30.0f;          // k, N/m (SPEC §5: 30 membrane, 10 box, 50 jellyfish)
-  float damping = 10.0f;            // d, N s/m
+  float stiffness = 30000.0f;       // k, N/m: the paper's 30 read with masses in tonnes (docs/PHYSICS.md)
+  float damping = 10000.0f;         // d, N s/m: the paper's 10, likewise
   float connectionRadius = 2.1f;    // h_spr / l_avr
+  Damper damper = Damper::Implicit;
   bool telescopicDensity = true;    // (8)-(10); false = the paper's "conventional mass-spring model"
   float rimWidth = 1.0f;            // rim band width in body spacings
   std::vector<Selection> pins;      // particles held fixed in space

@@ -139,13 +139,15 @@ void Simulation::sortParticles() {
 void Simulation::computeAccelerations() {
   sortParticles();
   if (bodies_) bodies_->index(particles_);
-  {
-    StageTimer timer(stats_, Stage::Density);
-    computeDensity(grid_, particles_, poly6_, neighbors_, wallSums_);
-  }
+  // (4)-(5) depend only on positions, so they run before (3): the volume-weighted density sum
+  // needs the neighbours' rest densities of this step.
   if (bodies_ && bodies_->hasTelescopicDensity()) {
     StageTimer timer(stats_, Stage::TelescopicDensity);
-    bodies_->updateRestDensity(particles_);  // (4)-(5)
+    bodies_->updateRestDensity(particles_);
+  }
+  {
+    StageTimer timer(stats_, Stage::Density);
+    computeDensity(grid_, particles_, poly6_, neighbors_, wallSums_, params_.fluid.densitySum);
   }
   {
     StageTimer timer(stats_, Stage::Pressure);
@@ -163,13 +165,13 @@ void Simulation::computeAccelerations() {
 
 void Simulation::addBodyForces(float dt) {
   if (!bodies_) return;
-  {
-    StageTimer timer(stats_, Stage::Springs);
-    bodies_->addSpringForces(particles_, dt);  // (9)
-  }
   if (bodies_->hasMuscles()) {
     StageTimer timer(stats_, Stage::Muscles);
     bodies_->addMuscleForces(particles_, time_);
+  }
+  {
+    StageTimer timer(stats_, Stage::Springs);
+    bodies_->addSpringForces(particles_, dt);  // (9), last: an implicit damper needs every other force
   }
 }
 

@@ -97,29 +97,41 @@ void indexParticlesById(const ParticleSet& particles, std::vector<uint32_t>& ind
 
 void addSpringAccelerations(const SpringNetwork& springs, float stiffness, float damping, float dt,
                             ParticleSet& p, const std::vector<uint32_t>& indexOfId) {
-  addSpringAccelerations(springs, std::vector<SpringGroup>{{stiffness, damping}}, dt, p, indexOfId);
+  std::vector<Eigen::Vector3f> scratch;
+  addSpringAccelerations(springs, std::vector<SpringGroup>{{stiffness, damping, false}}, dt, p, indexOfId, scratch);
 }
 
 void addSpringAccelerations(const SpringNetwork& springs, const std::vector<SpringGroup>& groups, float dt,
-                            ParticleSet& p, const std::vector<uint32_t>& indexOfId) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const SpringNetwork::End* first = springs.begin(p.id[i]);
-      const SpringNetwork::End* last = springs.end(p.id[i]);
+                            ParticleSet& p, const std::vector<uint32_t>& indexOfId,
+                            std::vector<Eigen::Vector3f>& predicted) {
+  if (springs.springCount() == 0) return;
+  const int64_t firstId = springs.minId(), lastId = springs.maxId();
+  bool anyImplicit = false;
+  for (const SpringGroup& g : groups) anyImplicit = anyImplicit || (g.implicitDamper && g.damping > 0.0f);
+  // Springs, and the dampers integrated explicitly: each particle sums its own springs in parallel.
+  tbb::parallel_for(tbb::blocked_range<int64_t>(firstId, lastId + 1, 256), [&](const tbb::blocked_range<int64_t>& range) {
+    for (int64_t id = range.begin(); id != range.end(); ++id) {
+      const SpringNetwork::End* first = springs.begin(id);
+      const SpringNetwork::End* last = springs.end(id);
       if (first == last) continue;
+      const size_t i = indexOfId[size_t(id)];
       const Eigen::Vector3f xi(p.x[i], p.y[i], p.z[i]), vi(p.vx[i], p.vy[i], p.vz[i]);
       Eigen::Vector3f force = Eigen::Vector3f::Zero();
       for (const SpringNetwork::End* s = first; s != last; ++s) {
-        const uint32_t q = indexOfId[size_t(s->other)];
-        const Eigen::Vector3f xq(p.x[q], p.y[q], p.z[q]), vq(p.vx[q], p.vy[q], p.vz[q]);
+        const uint32_t q = indexOfId[s->other];
+        const Eigen::Vector3f xq(p.x[q], p.y[q], p.z[q]);
         const Eigen::Vector3f r = xi - xq;  // r_iq
         const float length = r.norm();
         if (length <= 0.0f) continue;
-        // Upwind estimate of the length change over the next step (SPEC §3.1).
-        const float predicted = ((xi + vi * dt) - (xq + vq * dt)).norm();
-        const float change = dt > 0.0f ? (predicted - length) / dt : 0.0f;
         const SpringGroup& g = groups[s->group];
-        force += (-g.stiffness * (length - s->restLength) - g.damping * change) / length * r;  // (7)
+        float magnitude = -g.stiffness * (length - s->restLength);  // (7), spring
+        if (!g.implicitDamper) {
+          // (7), damper: upwind estimate of the length change over the next step (SPEC §3.1).
+          const Eigen::Vector3f vq(p.vx[q], p.vy[q], p.vz[q]);
+          const float predictedLength = ((xi + vi * dt) - (xq + vq * dt)).norm();
+          magnitude -= g.damping * (dt > 0.0f ? (predictedLength - length) / dt : 0.0f);
+        }
+        force += magnitude / length * r;
       }
       const float invMass = 1.0f / p.mass[i];
       p.ax[i] += force.x() * invMass;
@@ -127,14 +139,64 @@ void addSpringAccelerations(const SpringNetwork& springs, const std::vector<Spri
       p.az[i] += force.z() * invMass;
     }
   });
+  if (!anyImplicit || !(dt > 0.0f)) return;
+  // Implicit dampers: from the velocities after every other force, v* = v + a dt, each spring in
+  // turn (a fixed order) lets its ends' relative velocity along it, w = r^.(v_i - v_q), decay
+  // exactly as its damper alone would over dt: w' = w exp(-d (1/m_i + 1/m_q) dt), momentum kept.
+  // Each update only removes relative motion, so no step size makes it unstable.
+  predicted.resize(size_t(lastId - firstId + 1));
+  for (int64_t id = firstId; id <= lastId; ++id) {
+    const size_t i = indexOfId[size_t(id)];
+    if (i != UINT32_MAX)
+      predicted[size_t(id - firstId)] = Eigen::Vector3f(p.vx[i] + p.ax[i] * dt, p.vy[i] + p.ay[i] * dt, p.vz[i] + p.az[i] * dt);
+  }
+  // One spring's damper over half the step (the sweep runs forward, then backward).
+  auto damp = [&](int64_t id, size_t i, const SpringNetwork::End& s) {
+    if (int64_t(s.other) <= id) return;  // each spring once, from its lower id
+    const SpringGroup& g = groups[s.group];
+    if (!g.implicitDamper || g.damping <= 0.0f) return;
+    const uint32_t q = indexOfId[s.other];
+    Eigen::Vector3f r(p.x[i] - p.x[q], p.y[i] - p.y[q], p.z[i] - p.z[q]);
+    const float length = r.norm();
+    if (length <= 0.0f) return;
+    r /= length;
+    Eigen::Vector3f& vi = predicted[size_t(id - firstId)];
+    Eigen::Vector3f& vq = predicted[size_t(int64_t(s.other) - firstId)];
+    const float wi = 1.0f / p.mass[i], wq = 1.0f / p.mass[q];
+    const float w = r.dot(vi - vq);
+    const float change = w * (std::exp(-0.5f * g.damping * (wi + wq) * dt) - 1.0f);  // w' - w
+    vi += (change * wi / (wi + wq)) * r;
+    vq -= (change * wq / (wi + wq)) * r;
+  };
+  // A forward then a backward sweep: the composed update is symmetric (self-adjoint in the mass
+  // inner product), so, unlike a single sweep, it never turns relative motion against the forces.
+  for (int64_t id = firstId; id <= lastId; ++id)
+    for (const SpringNetwork::End* s = springs.begin(id); s != springs.end(id); ++s) damp(id, indexOfId[size_t(id)], *s);
+  for (int64_t id = lastId; id >= firstId; --id)
+    for (const SpringNetwork::End* s = springs.end(id); s != springs.begin(id);) {
+      --s;
+      damp(id, indexOfId[size_t(id)], *s);
+    }
+  for (int64_t id = firstId; id <= lastId; ++id) {
+    const size_t i = indexOfId[size_t(id)];
+    if (i == UINT32_MAX) continue;
+    const Eigen::Vector3f& v = predicted[size_t(id - firstId)];
+    p.ax[i] = (v.x() - p.vx[i]) / dt;
+    p.ay[i] = (v.y() - p.vy[i]) / dt;
+    p.az[i] = (v.z() - p.vz[i]) / dt;
+  }
 }
 
 void addMuscleAccelerations(const SpringNetwork& springs, const float* forces, ParticleSet& p,
                             const std::vector<uint32_t>& indexOfId) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 1024), [&](const tbb::blocked_range<size_t>& range) {
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const SpringNetwork::End* first = springs.begin(p.id[i]);
-      const SpringNetwork::End* last = springs.end(p.id[i]);
+  if (springs.springCount() == 0) return;
+  tbb::parallel_for(tbb::blocked_range<int64_t>(springs.minId(), springs.maxId() + 1, 256),
+                    [&](const tbb::blocked_range<int64_t>& range) {
+    for (int64_t id = range.begin(); id != range.end(); ++id) {
+      const SpringNetwork::End* first = springs.begin(id);
+      const SpringNetwork::End* last = springs.end(id);
+      if (first == last) continue;
+      const size_t i = indexOfId[size_t(id)];
       Eigen::Vector3f force = Eigen::Vector3f::Zero();
       for (const SpringNetwork::End* s = first; s != last; ++s) {
         if (!s->muscles) continue;

@@ -15,10 +15,12 @@
 
 namespace kurage::sim {
 
-// The coefficients of a set of springs (one per body): k (N/m) and d (N s/m) of (7).
+// The coefficients of a set of springs (one per body): k (N/m) and d (N s/m) of (7), and how
+// the damper is integrated (BodyParams::damper).
 struct SpringGroup {
   float stiffness = 0.0f;
   float damping = 0.0f;
+  bool implicitDamper = false;
 };
 
 // One spring as given to the builder: the ids of its ends, rest length, coefficient group and the
@@ -72,9 +74,13 @@ void indexParticlesById(const ParticleSet& particles, std::vector<uint32_t>& ind
 // (7) F_i = sum_q [ -k (|r_iq| - r0_iq) - d dl_iq / dt ] r_iq / |r_iq|,  r_iq = r_i - r_q,
 // with the upwind length change dl_iq = |(r_i + v_i dt) - (r_q + v_q dt)| - |r_iq|: the damper
 // opposes the change of length. Adds F_i / m_i to the accelerations of the particles whose
-// id lies in the network.
+// id lies in the network. For a group with an implicit damper the damper is not in F_i: after
+// every other acceleration (call this last), each spring in a fixed order lets its ends' relative
+// velocity along it decay exactly as its damper alone would over dt (w' = w exp(-d (1/m_i +
+// 1/m_q) dt), momentum kept), so the damper never bounds the step; `scratch` is reused storage.
 void addSpringAccelerations(const SpringNetwork& springs, const std::vector<SpringGroup>& groups, float dt,
-                            ParticleSet& particles, const std::vector<uint32_t>& indexOfId);
+                            ParticleSet& particles, const std::vector<uint32_t>& indexOfId,
+                            std::vector<Eigen::Vector3f>& scratch);
 // The same with one group of coefficients for every spring.
 void addSpringAccelerations(const SpringNetwork& springs, float stiffness, float damping, float dt,
                             ParticleSet& particles, const std::vector<uint32_t>& indexOfId);
