@@ -129,12 +129,7 @@ int commandStill(std::vector<std::string> rawArgs) {
     view.spheres.push_back(particleSpheres(scene, frame));
     image = render::renderFrame(view, settings, &stats);
   } else {
-    std::vector<Eigen::Vector3f> fluid;
-    for (size_t i = 0; i < frame.size(); ++i)
-      if (frame.kind[i] == 0) fluid.emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
-    std::map<std::string, render::LevelSet> surfaces;
-    surfaces.emplace("fluid", render::buildMetaballLevelSet(fluid, scene.surface.fluid));
-    image = renderSurfaces(scene, surfaces, frameTime, &stats);
+    image = renderSurfaces(scene, surfaceFrame(scene, frame), frameTime, &stats);
   }
   render::writePng(image, outFile, settings.transparentBackground, scene.render.bitDepth);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -27,6 +27,15 @@ struct OutputParams {
 
 struct SurfaceParams {
   render::MetaballParams fluid;
+  // Every body except chains becomes its own level set (grid named after the body). Bodies have
+  // half the fluid's spacing, hence the finer default field.
+  render::MetaballParams bodies = [] {
+    render::MetaballParams m;
+    m.radius = 1.0f;
+    m.threshold = 0.5f;
+    m.voxelSize = 0.125f;
+    return m;
+  }();
 };
 
 // The environment as the scene file gives it (render::Environment holds the decoded image).
@@ -78,6 +87,14 @@ struct RenderParams {
     m.albedo = {0.25f, 0.45f, 0.85f};
     m.ior = 1.33f;
     m.absorption = {0.12f, 0.04f, 0.02f};
+    return m;
+  }();
+  render::Material bodyMaterial = [] {
+    render::Material m;
+    m.type = render::MaterialType::Translucent;
+    m.albedo = {0.95f, 0.55f, 0.75f};
+    m.ior = 1.35f;
+    m.absorption = {0.05f, 0.4f, 0.2f};
     return m;
   }();
   TankParams tank;

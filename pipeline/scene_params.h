@@ -157,10 +157,9 @@ void describe(V& v, sim::BodyParams& p) {
   v.value("specific_gravity", p.specificGravity,
           {"", "initial rest density / 1000 kg/m^3 (paper: 1.1 membrane and jellyfish, 0.7 box)", positive()});
   v.value("stiffness", p.stiffness,
-          {"N/m", "spring coefficient k of (7); the paper's 30 (membrane), 10 (box), 50 (jellyfish) are for masses in "
-                  "tonnes, so 30000, 10000, 50000 here (docs/PHYSICS.md)", nonNegative()});
-  v.value("damping", p.damping,
-          {"N s/m", "damper coefficient d of (7); the paper's 10, 15, 10 likewise x 1000", nonNegative()});
+          {"N/m", "spring coefficient k of (7) (paper: 30 membrane, 10 box, 50 jellyfish; scenes/box.json explains "
+                  "why it uses 1000 times the paper's value)", nonNegative()});
+  v.value("damping", p.damping, {"N s/m", "damper coefficient d of (7) (paper: 10, 15, 10)", nonNegative()});
   v.enumeration("damper", p.damper, kDamper,
                 {"", "'implicit': each spring's damper decays its ends' relative velocity along it exactly over the step, so it never bounds the time "
                      "step; 'explicit': (7) as written with the upwind length change (step < m / sum d)"});
@@ -212,6 +211,7 @@ void describe(V& v, render::MetaballParams& p) {
 template <class V>
 void describe(V& v, SurfaceParams& p) {
   v.object("fluid", p.fluid, {"", "metaball surface of the fluid particles"});
+  v.object("bodies", p.bodies, {"", "metaball surface of each body (chains excepted), one grid per body name"});
 }
 
 inline const EnumTable<render::MaterialType> kMaterialType{{"diffuse", render::MaterialType::Diffuse},
@@ -346,6 +346,7 @@ void describe(V& v, RenderParams& p) {
   v.object("environment", p.environment, {"", "radiance from directions that hit nothing: sky"});
   v.object("ground", p.ground, {"", "infinite diffuse checker ground plane"});
   v.object("fluid_material", p.fluidMaterial, {"", "material of the fluid surface (default: water)"});
+  v.object("body_material", p.bodyMaterial, {"", "material of the bodies' surfaces (default: translucent pink)"});
   v.object("tank", p.tank, {"", "the container's walls, drawn"});
   v.object("clip", p.clip, {"", "clip plane for cross-section views"});
   v.object("particles", p.particles, {"", "particles drawn as spheres, for figures that explain the method"});

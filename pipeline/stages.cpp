@@ -4,6 +4,7 @@
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
 #include "pipeline/render_scene.h"
+#include "render/plot.h"
 #include "render/tracer.h"
 #include "sim/simulation.h"
 
@@ -104,6 +105,40 @@ public:
       csv << "\n";
     }
     writeTextAtomic(outDir / "bodies.csv", csv.str());
+    if (!rows_.empty() && !rows_.front().forces.empty()) writePlot(outDir / "bodies.png");
+  }
+
+  // The paper's Fig. 3: the muscles' force against time, with each body's measured depth below
+  // the free surface added.
+  void writePlot(const fs::path& file) const {
+    render::Plot plot;
+    plot.title = scene_.name + ": muscle force and body depth";
+    plot.x.label = "time (s)";
+    plot.y.label = "depth below the surface (m)";
+    plot.y2.label = "force per spring (N)";
+    for (size_t b = 0; b < scene_.sim.bodies.size(); ++b) {
+      render::PlotSeries depth;
+      depth.label = scene_.sim.bodies[b].name + " depth";
+      for (const Row& r : rows_) {
+        depth.x.push_back(r.time);
+        depth.y.push_back(r.surface - r.centres[b].z());
+      }
+      plot.series.push_back(std::move(depth));
+    }
+    size_t m = 0;
+    for (const sim::BodyParams& b : scene_.sim.bodies)
+      for (const sim::MuscleParams& muscle : b.muscles) {
+        render::PlotSeries force;
+        force.label = b.name + " " + muscle.name + " force";
+        force.axis = 1;
+        for (const Row& r : rows_) {
+          force.x.push_back(r.time);
+          force.y.push_back(r.forces[m]);
+        }
+        plot.series.push_back(std::move(force));
+        ++m;
+      }
+    render::writePlotPng(plot, file);
   }
 
 private:
@@ -241,13 +276,21 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
 }
 
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const fs::path& particleFile) {
-  const ParticleFrame frame = readParticleFrame(particleFile);
-  std::vector<Eigen::Vector3f> fluid;
-  fluid.reserve(frame.size());
-  for (size_t i = 0; i < frame.size(); ++i)
-    if (frame.kind[i] == 0) fluid.emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
+  return surfaceFrame(scene, readParticleFrame(particleFile));
+}
+
+std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame) {
+  // Kind 0 is the fluid, kind b + 1 the body b; chains are drawn as curves, not surfaces.
+  std::vector<std::vector<Eigen::Vector3f>> byKind(scene.sim.bodies.size() + 1);
+  for (size_t i = 0; i < frame.size(); ++i) {
+    const size_t kind = size_t(frame.kind[i]);
+    if (kind < byKind.size()) byKind[kind].emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
+  }
   std::map<std::string, render::LevelSet> surfaces;
-  surfaces.emplace("fluid", render::buildMetaballLevelSet(fluid, scene.surface.fluid));
+  surfaces.emplace("fluid", render::buildMetaballLevelSet(byKind[0], scene.surface.fluid));
+  for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
+    if (scene.sim.bodies[b].shape != sim::BodyShape::Chain)
+      surfaces.emplace(scene.sim.bodies[b].name, render::buildMetaballLevelSet(byKind[b + 1], scene.surface.bodies));
   return surfaces;
 }
 
@@ -285,7 +328,7 @@ render::Image renderSurfaces(const Scene& scene, const std::map<std::string, ren
   for (const auto& [name, levelSet] : surfaces) {
     if (levelSet.empty()) continue;
     meshes.push_back(render::meshLevelSet(levelSet));
-    view.meshes.push_back({&meshes.back(), scene.render.fluidMaterial});  // only "fluid" exists so far
+    view.meshes.push_back({&meshes.back(), name == "fluid" ? scene.render.fluidMaterial : scene.render.bodyMaterial});
   }
   return render::renderFrame(view, scene.render.settings, stats);
 }

@@ -6,6 +6,7 @@
 // and OUT/run.json records the parameters in effect, library versions and stage timings.
 #pragma once
 
+#include "pipeline/particle_cache.h"
 #include "pipeline/scene.h"
 #include "render/image.h"
 #include "render/surfacing.h"
@@ -52,6 +53,8 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
 
 // Pieces of the stages, for tests and tools.
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
+// The level sets of one frame: "fluid" and one per body (chains excepted), named after it.
+std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame);
 // Renders the surfaces with the camera at simulated time `time` (camera keys).
 render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces,
                              double time = 0.0, render::RenderStats* stats = nullptr);

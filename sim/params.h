@@ -174,8 +174,8 @@ struct BodyParams {
   std::string attachTo;             // chain: the body whose particles near the chain's start hold it
   float spacing = 0.5f;             // body particle spacing (diameter) / l_avr (SPEC §3.2, paper 0.5)
   float specificGravity = 1.1f;     // rho0_body / 1000 kg/m^3
-  float stiffness = 30000.0f;       // k, N/m: the paper's 30 read with masses in tonnes (docs/PHYSICS.md)
-  float damping = 10000.0f;         // d, N s/m: the paper's 10, likewise
+  float stiffness = 30.0f;          // k, N/m (SPEC §5: 30 membrane, 10 box, 50 jellyfish; docs/PHYSICS.md)
+  float damping = 10.0f;            // d, N s/m (SPEC §5: 10, 15, 10)
   float connectionRadius = 2.1f;    // h_spr / l_avr
   Damper damper = Damper::Implicit;
   bool telescopicDensity = true;    // (8)-(10); false = the paper's "conventional mass-spring model"

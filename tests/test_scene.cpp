@@ -20,6 +20,12 @@ json baseScene() {
   return json::parse(readText(test::sourceDir() / "tests/scenes/tiny_dam_break.json"));
 }
 
+// Appends a valid 2 m box body clear of the fluid block and returns it.
+json& addBox(json& s) {
+  s["bodies"].push_back({{"name", "box"}, {"shape", "box"}, {"min", {8, 1, 1}}, {"max", {10, 3, 3}}});
+  return s["bodies"].back();
+}
+
 struct BadScene {
   const char* name;
   std::function<void(json&)> mutate;  // applied to the valid base scene
@@ -61,6 +67,36 @@ const BadScene kBadScenes[] = {
     {"NotAnObject", [](json& s) { s["time_step"] = 0.01; }, "time_step", "must be an object"},
     {"ThresholdAboveStrength", [](json& s) { s["surface"]["fluid"]["threshold"] = 2.0; }, "surface.fluid.threshold",
      "must be below the blob strength"},
+    // Bodies (one valid box body at [8, 1, 1] - [10, 3, 3] is added, then broken).
+    {"BodyYieldsNoParticle", [](json& s) { addBox(s)["max"] = {8.2, 3, 3}; }, "bodies[0]", "yields no particle"},
+    {"BodyConnectionRadiusJoinsNone", [](json& s) { addBox(s)["connection_radius"] = 0.3; },
+     "bodies[0].connection_radius", "joins no spring"},
+    {"BodyOutsideContainer", [](json& s) { addBox(s)["max"] = {10, 3, 12}; }, "bodies[0]", "outside the container"},
+    {"BodiesOverlap", [](json& s) {
+       addBox(s);
+       json& b = addBox(s);
+       b["name"] = "second";
+       b["min"] = {9, 1, 1};
+     }, "bodies[1]", "overlaps bodies[0]"},
+    {"MuscleSelectsNoSpring", [](json& s) {
+       addBox(s)["muscles"] = {{{"springs", {{"select", "region"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}}},
+                                {"force", {{"type", "pulse"}}}}};
+     }, "bodies[0].muscles[0].springs", "selects no spring"},
+    {"PinSelectsNothing", [](json& s) {
+       addBox(s)["pins"] = {{{"select", "region"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}}};
+     }, "bodies[0].pins[0]", "selects no particle"},
+    {"ChainAttachedToMissingBody", [](json& s) {
+       json& b = addBox(s);
+       b["shape"] = "chain";
+       b["start"] = {9, 1, 1};
+       b["end"] = {9, 1, 3};
+       b["attach_to"] = "bell";
+     }, "bodies[0].attach_to", "no other body is named \"bell\""},
+    {"BodyUnknownShape", [](json& s) { addBox(s)["shape"] = "sphere"; }, "bodies[0].shape", "must be one of"},
+    {"MuscleKeysOutOfOrder", [](json& s) {
+       addBox(s)["muscles"] = json::parse(R"([{"springs": {"select": "all"}, "force": {"type": "keys",
+           "keys": [{"time": 2, "force": 1}, {"time": 1, "force": 0}]}}])");
+     }, "bodies[0].muscles[0].force.keys[1].time", "must be later"},
 };
 
 class BadSceneTest : public ::testing::TestWithParam<BadScene> {};

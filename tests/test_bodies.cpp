@@ -1,0 +1,386 @@
+// Telescopic bodies in the simulation (label `bodies`): the stretch ratio, the dampers, muscles,
+// the collision loop and its cap, pins, Archimedes' principle, the paper's box sequence (Fig. 3)
+// and membrane (Fig. 2), and which stages a scene runs.
+#include "pipeline/files.h"
+#include "pipeline/scene.h"
+#include "sim/simulation.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+using namespace kurage;
+using namespace kurage::sim;
+
+namespace {
+
+// A body-only world without gravity.
+SimParams emptyWorld() {
+  SimParams p;
+  p.gravity = Eigen::Vector3f::Zero();
+  p.container.min = Eigen::Vector3f(0, 0, 0);
+  p.container.max = Eigen::Vector3f(12, 12, 12);
+  return p;
+}
+
+BodyParams boxBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max) {
+  BodyParams b;
+  b.name = "box";
+  b.shape = BodyShape::Box;
+  b.min = min;
+  b.max = max;
+  return b;
+}
+
+struct Extent {
+  Eigen::Vector3f min = Eigen::Vector3f::Constant(1e9f), max = Eigen::Vector3f::Constant(-1e9f);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  size_t count = 0;
+};
+
+Extent bodyExtent(const ParticleSet& p, int kind) {
+  Extent e;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == kind) {
+      const Eigen::Vector3f x(p.x[i], p.y[i], p.z[i]);
+      e.min = e.min.cwiseMin(x);
+      e.max = e.max.cwiseMax(x);
+      e.centre += x.cast<double>();
+      ++e.count;
+    }
+  if (e.count) e.centre /= double(e.count);
+  return e;
+}
+
+double kineticEnergy(const ParticleSet& p) {
+  double e = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
+  return e;
+}
+
+// The free surface height: over 1 m columns farther than `clear` from (cx, cy), the mean height
+// of the top fluid particle, plus half a spacing (a particle's centre lies half a spacing below
+// the surface it bounds).
+double freeSurface(const ParticleSet& p, double cx, double cy, double clear, float spacing) {
+  std::map<std::pair<int, int>, float> top;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == 0 && std::hypot(p.x[i] - cx, p.y[i] - cy) > clear) {
+      const auto key = std::make_pair(int(std::floor(p.x[i])), int(std::floor(p.y[i])));
+      const auto it = top.find(key);
+      if (it == top.end() || it->second < p.z[i]) top[key] = p.z[i];
+    }
+  double sum = 0.0;
+  for (const auto& [key, z] : top) sum += z;
+  return top.empty() ? 0.0 : sum / double(top.size()) + 0.5 * spacing;
+}
+
+// Submerged fraction: the share of the body's particles whose centre lies below the free surface.
+double submergedFraction(const ParticleSet& p, float spacing) {
+  const Extent e = bodyExtent(p, 1);
+  const double surface = freeSurface(p, e.centre.x(), e.centre.y(), 3.0, spacing);
+  size_t below = 0;
+  for (size_t i = 0; i < p.size(); ++i) below += p.kind[i] == 1 && p.z[i] < surface;
+  return double(below) / double(e.count);
+}
+
+pipeline::Scene sceneFile(const char* name) { return pipeline::loadScene(test::sourceDir() / "scenes" / name); }
+
+}  // namespace
+
+TEST(LengthRatio, IsOneAtRestAndOneOverSWhenScaledByS) {
+  SimParams p = emptyWorld();
+  p.bodies.push_back(boxBody({2, 2, 2}, {5, 5, 5}));
+  Simulation sim(p);
+  const SpringNetwork network = [&] {
+    std::vector<Eigen::Vector3f> points;
+    std::vector<int64_t> ids;
+    const ParticleSet& s = sim.particles();
+    for (size_t i = 0; i < s.size(); ++i) {
+      points.emplace_back(s.x[i], s.y[i], s.z[i]);
+      ids.push_back(s.id[i]);
+    }
+    return SpringNetwork::connect(points, ids, p.bodies[0].connectionRadius * p.fluid.spacing);
+  }();
+  ParticleSet s = sim.particles();
+  std::vector<uint32_t> index;
+  indexParticlesById(s, index);
+  for (size_t i = 0; i < s.size(); ++i) EXPECT_EQ(lengthRatio(network, s, index, i), 1.0f) << "at rest";
+  for (const float scale : {0.5f, 1.3f, 2.0f}) {
+    ParticleSet scaled = sim.particles();
+    for (size_t i = 0; i < scaled.size(); ++i) {
+      scaled.x[i] = 3.5f + scale * (scaled.x[i] - 3.5f);
+      scaled.y[i] = 3.5f + scale * (scaled.y[i] - 3.5f);
+      scaled.z[i] = 3.5f + scale * (scaled.z[i] - 3.5f);
+    }
+    for (size_t i = 0; i < scaled.size(); ++i) EXPECT_NEAR(lengthRatio(network, scaled, index, i), 1.0f / scale, 1e-6f);
+  }
+}
+
+TEST(ImplicitDamper, NeverAddsEnergyAndLetsABodyFallFreely) {
+  // Two particles joined by a spring, stretched, with a damper 1000 times the paper's: the explicit
+  // damper needs dt < m / (2 d) = 0.005 s here. The implicit one never adds energy, even at 4 times
+  // that step (x = d (1/m_i + 1/m_q) dt = 4); at x = 1 the pair also creeps back to its rest length
+  // as the overdamped spring does (time constant d / k = 1 s). At x >> 1 the split (forces, then
+  // dampers) creeps too slowly; the spring step bound keeps x below about 2 zeta sqrt(2 / n)
+  // (docs/PHYSICS.md).
+  for (const float dt : {0.02f, 0.005f}) {
+    ParticleSet p;
+    p.add(0, 0, 0, 0, 0, 0, 1000, 100, 0, 1);
+    p.add(0.6f, 0, 0, 0, 0, 0, 1000, 100, 1, 1);
+    const SpringNetwork net = SpringNetwork::fromPairs({{0, 1, 0.5f, 0, 0}});
+    const std::vector<SpringGroup> groups{{10000.0f, 10000.0f, true}};
+    std::vector<uint32_t> index;
+    indexParticlesById(p, index);
+    std::vector<Eigen::Vector3f> scratch;
+    auto energy = [&] {
+      const double stretch = std::fabs(p.x[1] - p.x[0]) - 0.5;
+      return kineticEnergy(p) + 0.5 * 10000.0 * stretch * stretch;
+    };
+    double last = energy();
+    for (int step = 0; step < int(std::lround(20.0f / dt)); ++step) {
+      std::fill(p.ax.begin(), p.ax.end(), 0.0f);
+      addSpringAccelerations(net, groups, dt, p, index, scratch);
+      for (size_t i = 0; i < 2; ++i) {
+        p.vx[i] += p.ax[i] * dt;
+        p.x[i] += p.vx[i] * dt;
+      }
+      const double e = energy();
+      ASSERT_LE(e, last * (1.0 + 1e-5) + 1e-9) << "dt " << dt << ", step " << step;
+      last = e;
+    }
+    if (dt == 0.005f) {
+      EXPECT_NEAR(p.x[1] - p.x[0], 0.5f, 1e-3f) << "relaxed after 20 time constants";
+    }
+  }
+
+  // A box in free fall keeps the acceleration of gravity: the dampers resist only relative motion.
+  SimParams world = emptyWorld();
+  world.gravity = Eigen::Vector3f(0, 0, -6);
+  BodyParams box = boxBody({4, 4, 7}, {6, 6, 9});
+  box.stiffness = 10000.0f;
+  box.damping = 15000.0f;
+  world.bodies.push_back(box);
+  Simulation sim(world);
+  sim.advanceTo(1.0);
+  const Extent e = bodyExtent(sim.particles(), 1);
+  EXPECT_NEAR(e.centre.z(), 8.0 - 0.5 * 6.0 * 1.0, 0.05);  // z = z0 - g t^2 / 2
+}
+
+double radiusOfGyration(const ParticleSet& p) {
+  const Extent e = bodyExtent(p, 1);
+  double sum = 0.0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == 1) sum += (Eigen::Vector3d(p.x[i], p.y[i], p.z[i]) - e.centre).squaredNorm();
+  return std::sqrt(sum / double(e.count));
+}
+
+TEST(Muscles, ContractingForceShrinksAndExpandingForceSwellsABody) {
+  for (const float force : {1000.0f, -1000.0f}) {
+    SimParams world = emptyWorld();
+    BodyParams box = boxBody({4, 4, 4}, {7, 7, 7});
+    box.stiffness = 10000.0f;
+    box.damping = 15000.0f;
+    MuscleParams muscle;
+    muscle.force.keys = {{0.0f, 0.0f}, {0.5f, force}};
+    box.muscles.push_back(muscle);
+    world.bodies.push_back(box);
+    Simulation sim(world);
+    const double before = radiusOfGyration(sim.particles());
+    sim.advanceTo(3.0);
+    const double after = radiusOfGyration(sim.particles());
+    double factor = 0.0;  // mean rest density factor L^dens
+    for (size_t i = 0; i < sim.particles().size(); ++i) factor += sim.particles().restDensity[i] / box.restDensity();
+    factor /= double(sim.particles().size());
+    if (force > 0) {
+      EXPECT_LT(after, 0.97 * before) << "contraction";
+      EXPECT_GT(factor, 1.05) << "a contracted body is denser";
+    } else {
+      EXPECT_GT(after, 1.03 * before) << "expansion";
+      EXPECT_LT(factor, 0.95) << "an expanded body is lighter";
+    }
+    EXPECT_TRUE(sim.stats().stageRan(Stage::Muscles));
+  }
+}
+
+TEST(Collisions, UnconnectedParticlesThrownAtEachOtherEndApart) {
+  SimParams world = emptyWorld();
+  world.bodies.push_back(boxBody({4, 5.75f, 5.75f}, {4.5f, 6.25f, 6.25f}));  // one particle each
+  world.bodies.push_back(boxBody({7, 5.75f, 5.75f}, {7.5f, 6.25f, 6.25f}));
+  world.bodies[1].name = "other";
+  Simulation sim(world);
+  ASSERT_EQ(sim.particles().size(), 2u);
+  ParticleSet& p = sim.particles();
+  for (size_t i = 0; i < 2; ++i) p.vx[i] = p.x[i] < 6.0f ? 20.0f : -20.0f;  // 40 m/s closing speed
+  const float diameter = 0.5f * world.fluid.spacing;
+  float closest = 1e9f;
+  for (int step = 0; step < 40; ++step) {
+    sim.step(0.01f);
+    closest = std::min(closest, std::fabs(sim.particles().x[0] - sim.particles().x[1]));
+  }
+  EXPECT_GE(closest, diameter * (1.0f - 1e-3f));
+  EXPECT_GT(sim.bodies()->stats().collisionsResolved, 0u);
+  EXPECT_EQ(sim.bodies()->stats().capHits, 0u);
+}
+
+TEST(Collisions, LoopStopsAtTheCapAndReportsIt) {
+  // Nine one-particle bodies piled almost on one spot: one pass cannot separate them.
+  SimParams world = emptyWorld();
+  for (int k = 0; k < 9; ++k) {
+    const float x = 5.0f + 0.01f * float(k);
+    world.bodies.push_back(boxBody({x, 5.75f, 5.75f}, {x + 0.5f, 6.25f, 6.25f}));
+    world.bodies.back().name = "b" + std::to_string(k);
+  }
+  world.collisions.maxPasses = 1;
+  Simulation sim(world);
+  sim.step(0.001f);
+  EXPECT_EQ(sim.bodies()->stats().mostPasses, 1);
+  EXPECT_EQ(sim.bodies()->stats().capHits, 1u);
+  world.collisions.maxPasses = 1000;
+  Simulation uncapped(world);
+  uncapped.step(0.001f);
+  EXPECT_GT(uncapped.bodies()->stats().mostPasses, 1);
+  EXPECT_EQ(uncapped.bodies()->stats().capHits, 0u);
+}
+
+TEST(Pins, HoldTheirParticlesInPlace) {
+  SimParams world = emptyWorld();
+  world.gravity = Eigen::Vector3f(0, 0, -6);
+  BodyParams sheet;
+  sheet.name = "sheet";
+  sheet.shape = BodyShape::Membrane;
+  sheet.min = Eigen::Vector3f(2, 2, 8);
+  sheet.max = Eigen::Vector3f(8, 8, 8);
+  Selection rim;
+  rim.kind = SelectionKind::Rim;
+  sheet.pins.push_back(rim);
+  world.bodies.push_back(sheet);
+  Simulation sim(world);
+  const ParticleSet start = sim.particles();
+  sim.advanceTo(2.0);
+  const ParticleSet& now = sim.particles();
+  size_t pinned = 0;
+  std::map<int64_t, Eigen::Vector3f> initial;
+  for (size_t i = 0; i < start.size(); ++i) initial[start.id[i]] = Eigen::Vector3f(start.x[i], start.y[i], start.z[i]);
+  for (size_t i = 0; i < now.size(); ++i) {
+    const Eigen::Vector3f x0 = initial[now.id[i]];
+    const bool rim = x0.x() < 2.5f || x0.x() > 7.5f || x0.y() < 2.5f || x0.y() > 7.5f;
+    if (!rim) continue;
+    ++pinned;
+    EXPECT_EQ(Eigen::Vector3f(now.x[i], now.y[i], now.z[i]), x0);
+  }
+  EXPECT_EQ(pinned, 3u * 44u);  // the outer ring of a 12 x 12 sheet, 3 layers
+  EXPECT_LT(bodyExtent(now, 1).min.z(), 7.0f) << "the middle sags under its weight";
+}
+
+// Archimedes: a 3 m box dropped into a tank floats with the submerged fraction of its particles
+// within 0.1 of its specific gravity, averaged over t = 7 .. 12 s (the fluid of scenes/box.json:
+// the paper's parameters except k_press 2000 and h = 2 l, with the volume density sum and
+// Monaghan's pressure force; docs/PHYSICS.md has the paper's forms for comparison). The box has
+// 6 particle layers, so fractions come in steps of 1/6.
+class Archimedes : public ::testing::TestWithParam<float> {};
+
+TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
+  const float gravity = GetParam();
+  SimParams p;
+  p.fluid.supportRadius = 2.0f;  // as scenes/box.json: with 1.5 l the coarse fluid holds a body like a crystal
+  p.fluid.pressureStiffness = 2000.0f;
+  p.fluid.pressureForce = PressureForce::Monaghan1992;
+  p.fluid.densitySum = DensitySum::Volume;
+  p.container.max = Eigen::Vector3f(14, 14, 12);
+  p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(14, 14, 6)});
+  BodyParams box = boxBody({5.5f, 5.5f, 6.5f}, {8.5f, 8.5f, 9.5f});  // dropped from just above the water
+  box.specificGravity = gravity;
+  box.stiffness = 10000.0f;
+  box.damping = 15000.0f;
+  box.connectionRadius = 2.4f;
+  p.bodies.push_back(box);
+  Simulation sim(p);
+  double sum = 0.0;
+  int samples = 0;
+  for (int k = 1; k <= 12; ++k) {
+    sim.advanceTo(k);
+    if (k > 6) {
+      sum += submergedFraction(sim.particles(), p.fluid.spacing);
+      ++samples;
+    }
+  }
+  const double fraction = sum / samples;  // averaged over t = 7 .. 12 s
+  EXPECT_NEAR(fraction, gravity, 0.1) << "specific gravity " << gravity;
+  RecordProperty("submerged_fraction", std::to_string(fraction));
+}
+
+INSTANTIATE_TEST_SUITE_P(SpecificGravity, Archimedes, ::testing::Values(0.5f, 0.7f, 0.9f),
+                         [](const auto& info) { return "sg" + std::to_string(int(std::lround(info.param * 10))); });
+
+// The paper's Fig. 3 with scenes/box.json: the state at the end of each phase of its force schedule.
+TEST(BoxSequence, FollowsThePaper) {
+  const pipeline::Scene scene = sceneFile("box.json");
+  Simulation sim(scene.sim);
+  const float l = scene.sim.fluid.spacing;
+  auto state = [&](double t) {
+    sim.advanceTo(t);
+    return std::make_pair(submergedFraction(sim.particles(), l), bodyExtent(sim.particles(), 1));
+  };
+  const auto [floating, floatingBox] = state(6.0);
+  EXPECT_GT(floating, 0.5) << "floats";
+  EXPECT_LT(floating, 0.9) << "floats";
+  const auto [contracted, contractedBox] = state(14.0);
+  EXPECT_LT(contractedBox.min.z(), 1.0f * l) << "at the bottom under contraction";
+  const auto [released, releasedBox] = state(22.0);
+  EXPECT_GT(releasedBox.centre.z(), contractedBox.centre.z() + 0.8) << "risen after release";
+  EXPECT_LT(released, 0.95) << "back at the surface after release";
+  const auto [expanded, expandedBox] = state(30.0);
+  EXPECT_LT(expanded, floating - 0.1) << "rides higher under expansion";
+  const auto [settled, settledBox] = state(38.0);
+  EXPECT_NEAR(settled, floating, 0.1) << "floats again after release";
+  EXPECT_EQ(sim.bodies()->stats().capHits, 0u);
+}
+
+// The paper's Fig. 2: with the stretch-following density the membrane holds the poured fluid;
+// the conventional mass-spring model lets it slip through.
+TEST(Membrane, TelescopicDensityHoldsTheFluidTheConventionalModelLeaks) {
+  std::map<bool, double> leaked;
+  for (const bool telescopic : {true, false}) {
+    pipeline::Scene scene = sceneFile(telescopic ? "membrane.json" : "membrane_conventional.json");
+    Simulation sim(scene.sim);
+    sim.advanceTo(scene.output.duration);
+    const ParticleSet& p = sim.particles();
+    const float lowest = bodyExtent(p, 1).min.z();
+    size_t fluid = 0, below = 0;
+    for (size_t i = 0; i < p.size(); ++i)
+      if (p.kind[i] == 0) {
+        ++fluid;
+        below += p.z[i] < lowest - 0.5f * scene.sim.fluid.spacing;
+      }
+    ASSERT_GT(fluid, 50u);
+    leaked[telescopic] = double(below) / double(fluid);
+  }
+  EXPECT_LT(leaked[true], 0.1) << "telescopic density";
+  EXPECT_GT(leaked[false], 0.5) << "conventional mass-spring model";
+}
+
+TEST(Stages, OnlyWhatTheSceneCallsForRuns) {
+  SimParams fluidOnly;
+  fluidOnly.container.max = Eigen::Vector3f(6, 6, 6);
+  fluidOnly.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(6, 6, 3)});
+  Simulation fluid(fluidOnly);
+  fluid.advanceTo(0.2);
+  EXPECT_EQ(fluid.bodies(), nullptr) << "no spring data without bodies";
+  for (Stage s : {Stage::TelescopicDensity, Stage::Springs, Stage::Muscles, Stage::Pins, Stage::Collisions,
+                  Stage::Emitters, Stage::Sinks})
+    EXPECT_FALSE(fluid.stats().stageRan(s)) << stageName(s);
+  for (Stage s : {Stage::Sort, Stage::Density, Stage::Pressure, Stage::Forces, Stage::Integrate, Stage::Walls})
+    EXPECT_TRUE(fluid.stats().stageRan(s)) << stageName(s);
+
+  SimParams bodyOnly = emptyWorld();
+  bodyOnly.bodies.push_back(boxBody({4, 4, 4}, {6, 6, 6}));
+  bodyOnly.bodies.back().telescopicDensity = false;
+  Simulation body(bodyOnly);
+  body.advanceTo(0.2);
+  for (Stage s : {Stage::Springs, Stage::Collisions}) EXPECT_TRUE(body.stats().stageRan(s)) << stageName(s);
+  for (Stage s : {Stage::TelescopicDensity, Stage::Muscles, Stage::Pins, Stage::Emitters})
+    EXPECT_FALSE(body.stats().stageRan(s)) << stageName(s);
+}
