@@ -1,7 +1,8 @@
 // End to end: a tiny dam break through every stage of the CLI, its last frame compared with a
 // committed reference (tests/references/tiny_dam_break_0004.png, made by
 // tests/scenes/tiny_dam_break.json); `kurage still` against its own references (a surface still,
-// and a cross-section with particles as spheres, tests/references/tiny_still_*.png).
+// and a cross-section with particles as spheres, tests/references/tiny_still_*.png); a membrane
+// frame (tests/references/tiny_membrane_0006.png from tests/scenes/tiny_membrane.json).
 //
 // Tolerance (overriding Blender's 0.016 / 1 %, whose references are converged renders): a pixel
 // fails when a channel differs by more than 0.05 in sRGB-encoded value (13 of 255 levels); the
@@ -229,4 +230,18 @@ TEST(EndToEnd, QualityOptionsOverrideTheScene) {
   EXPECT_EQ(run["stages"]["render"]["primary_rays"], 40 * 30 * 2) << "one camera ray per sample";
   EXPECT_GT(run["stages"]["render"]["total_rays"], 40 * 30 * 2);
   EXPECT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --spp 0", dir.path() / "log.txt"), 2);
+}
+
+TEST(EndToEnd, MembraneFrameMatchesReference) {
+  // A body through every stage: fluid poured onto the pinned telescopic membrane
+  // (tests/scenes/tiny_membrane.json), its own level set and translucent material.
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const fs::path scene = test::sourceDir() / "tests/scenes/tiny_membrane.json";
+  ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string(), dir.path() / "log.txt"), 0)
+      << pipeline::readText(dir.path() / "log.txt");
+  EXPECT_TRUE(fs::exists(out / "bodies.csv"));
+  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  EXPECT_EQ(run["stages"]["sim"]["bodies"]["body_particles"], 432);
+  test::expectMatchesReference(render::readPng(out / "frames/0006.png"), "tiny_membrane_0006", kTolerance);
 }
