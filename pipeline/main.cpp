@@ -2,6 +2,7 @@
 // Only this file decides to exit; commands and libraries report errors to their caller.
 #include "pipeline/cli.h"
 #include "pipeline/scene.h"
+#include "pipeline/study.h"
 #include "sim/simulation.h"
 
 #include <cstdio>
@@ -22,6 +23,7 @@ constexpr const char* kUsage =
     "  render SCENE -o OUT   frames from the level sets: OUT/frames/NNNN.png\n"
     "  preview SCENE -o OUT  particles as spheres (OpenGL): OUT/preview/NNNN.png, preview.mp4\n"
     "  still SCENE --time T -o FILE.png   one path-traced frame at any time and resolution\n"
+    "  study STUDY -o OUT    accuracy against cost: a sweep of scene knobs, OUT/study.csv, .png, .md\n"
     "  check SCENE           validate a scene file and exit\n"
     "  schema                print the JSON Schema of scene files\n"
     "  bench sim             simulation throughput (particle-steps per second)\n"
@@ -47,6 +49,7 @@ int dispatch(const std::string& command, std::vector<std::string> args) {
   if (command == "bench") return commandBench(std::move(args));
   if (command == "still") return commandStill(std::move(args));
   if (command == "preview") return commandPreview(std::move(args));
+  if (command == "study") return commandStudy(std::move(args));
   throw UsageError("unknown command " + command);
 }
 

@@ -97,6 +97,10 @@ void JsonReader::value(const char* key, std::string& ref, const Field& f) {
   ref = j->get<std::string>();
 }
 
+void JsonReader::value(const char* key, nlohmann::json& ref, const Field& f) {
+  if (const nlohmann::json* j = find(key, f)) ref = *j;
+}
+
 void JsonReader::value(const char* key, Eigen::Vector3f& ref, const Field& f) {
   const nlohmann::json* j = find(key, f);
   if (!j) return;

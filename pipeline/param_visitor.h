@@ -71,6 +71,8 @@ public:
   void value(const char* key, bool& ref, const Field& f);
   void value(const char* key, std::string& ref, const Field& f);
   void value(const char* key, Eigen::Vector3f& ref, const Field& f);
+  // Any JSON value, taken as it is (the caller checks it; study knob values, for instance).
+  void value(const char* key, nlohmann::json& ref, const Field& f);
 
   template <class E>
   void enumeration(const char* key, E& ref, const EnumTable<E>& table, const Field& f) {

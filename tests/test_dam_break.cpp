@@ -9,6 +9,7 @@
 // spray), plus half a spacing. Column height: the highest particle within two spacings of the
 // back wall, plus half a spacing. Both are sampled every 0.05 in tau = t sqrt(g/a) and
 // interpolated linearly at the tabulated times.
+#include "pipeline/measures.h"
 #include "sim/simulation.h"
 #include "test_util.h"
 
@@ -16,25 +17,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 using namespace kurage::sim;
+using kurage::pipeline::DamBreakTrack;
+using kurage::pipeline::meanRelativeError;
 
 namespace {
-
-struct Point {
-  double x, y;
-};
-
-double interpolate(const std::vector<Point>& series, double x) {
-  for (size_t i = 1; i < series.size(); ++i)
-    if (series[i].x >= x) {
-      const double f = (x - series[i - 1].x) / (series[i].x - series[i - 1].x);
-      return series[i - 1].y + f * (series[i].y - series[i - 1].y);
-    }
-  return series.back().y;
-}
 
 struct Measured {
   double frontError = 0, heightError = 0;  // mean relative errors
@@ -58,49 +46,18 @@ Measured runDamBreak(WallSlip walls) {
   Simulation sim(p);
   const size_t count = sim.particles().size();
 
-  std::vector<Point> front{{0.0, 1.0}}, height{{0.0, 1.0}};  // (T, Z) and (tau, H)
-  const double timeScale = std::sqrt(g / a);
-  std::vector<float> xs;
+  // The measures of pipeline/measures.h (shared with `kurage study`), sampled every 0.05 in tau.
+  DamBreakTrack track({a, 2.0 * a, g, l, Eigen::Vector3d::Zero()});
   for (int f = 1; f <= 152; ++f) {
-    const double tau = f * 0.05;
-    sim.advanceTo(tau / timeScale);
-    const ParticleSet& s = sim.particles();
-    xs.clear();
-    float column = 0.0f;
-    for (size_t i = 0; i < s.size(); ++i) {
-      if (s.z[i] < 0.25f * a) xs.push_back(s.x[i]);
-      if (s.x[i] < 2 * l) column = std::max(column, s.z[i]);
-    }
-    std::sort(xs.begin(), xs.end());
-    const float x = xs.empty() ? 0.0f : xs[size_t(0.998 * double(xs.size() - 1))];
-    front.push_back({tau * std::sqrt(2.0), (x + 0.5 * l) / a});  // T = t sqrt(2g/a)
-    height.push_back({tau, (column + 0.5 * l) / (2 * a)});
+    sim.advanceTo(track.timeAtTau(f * 0.05));
+    track.record(sim.particles(), sim.time());
   }
   EXPECT_EQ(sim.particles().size(), count);
 
-  Measured m;
-  std::ifstream in(kurage::test::sourceDir() / "tests/data/martin_moyce_1952.csv");
-  EXPECT_TRUE(in) << "tests/data/martin_moyce_1952.csv missing";
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#' || line.rfind("series", 0) == 0) continue;
-    std::stringstream fields(line);
-    std::string series, xText, yText;
-    std::getline(fields, series, ',');
-    std::getline(fields, xText, ',');
-    std::getline(fields, yText, ',');
-    const double x = std::stod(xText), y = std::stod(yText);
-    if (series == "surge_front") {
-      m.frontError += std::fabs(interpolate(front, x) - y) / y;
-      ++m.frontPoints;
-    } else if (series == "column_height") {
-      m.heightError += std::fabs(interpolate(height, x) - y) / y;
-      ++m.heightPoints;
-    }
-  }
-  m.frontError /= std::max(m.frontPoints, 1);
-  m.heightError /= std::max(m.heightPoints, 1);
-  return m;
+  const auto reference = kurage::pipeline::loadMartinMoyce(kurage::test::sourceDir() / "tests/data/martin_moyce_1952.csv");
+  const auto front = meanRelativeError(track.front(), reference.surgeFront);
+  const auto height = meanRelativeError(track.column(), reference.columnHeight);
+  return {front.meanRelative, height.meanRelative, front.points, height.points};
 }
 
 }  // namespace

@@ -1,0 +1,51 @@
+// kurage study STUDY.json -o OUT: what accuracy costs in time (pipeline/study.h).
+#include "pipeline/cli.h"
+#include "pipeline/study.h"
+
+#include <cstdio>
+
+namespace kurage::pipeline {
+
+int commandStudy(std::vector<std::string> rawArgs) {
+  ArgParser args("study", std::move(rawArgs));
+  if (args.flag({"-h", "--help"})) {
+    std::printf(
+        "usage: kurage study STUDY.json -o OUT [--threads N] [--quiet]\n"
+        "       kurage study STUDY.json --check\n\n"
+        "Runs a sweep: the study's base scene with every combination of its knob values, each run's\n"
+        "error against a reference and its wall time per stage. Writes OUT/study.csv (one row per\n"
+        "run), OUT/study.png (error against time, points labelled with the knob values) and\n"
+        "OUT/study.md (a summary naming the cheapest setting within the study's accepted error).\n"
+        "The study file and every scene it makes are validated before anything runs (exit 2 with\n"
+        "the file and JSON path); a run that fails is a row with its message. Studies are in\n"
+        "scenes/studies/, their results in docs/accuracy/ (docs/ACCURACY.md).\n\n"
+        "  -o, --output OUT   output folder (created if missing)\n"
+        "  --check            validate the study and every scene it makes, run nothing\n"
+        "  --threads N        worker threads (default: all cores)\n"
+        "  --quiet            no line per run on stderr\n"
+        "  -h, --help         this help\n");
+    return 0;
+  }
+  StudyOptions options;
+  const bool checkOnly = args.flag({"--check"});
+  if (auto out = args.option({"-o", "--output"})) options.outDir = *out;
+  else if (!checkOnly) args.fail("missing -o OUT");
+  if (auto t = args.intOption({"--threads"}, 1, 1024)) options.threads = *t;
+  options.progress = !args.flag({"--quiet"});
+  const std::vector<std::string> positional = args.positionals();
+  if (positional.size() != 1) args.fail("expected one STUDY file");
+  const Study study = loadStudy(positional[0]);
+  if (checkOnly) {
+    size_t runs = 1;
+    for (const StudyKnob& k : study.knobs) runs *= knobSettings(k).size();
+    std::printf("%s: valid (%zu runs)\n", positional[0].c_str(), runs);
+    return 0;
+  }
+  const std::vector<StudyRow> rows = runStudy(study, options);
+  size_t failed = 0;
+  for (const StudyRow& r : rows) failed += !r.ok;
+  std::printf("study: %s/study.md (%zu runs, %zu failed)\n", options.outDir.string().c_str(), rows.size(), failed);
+  return 0;
+}
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,270 @@
+#include "pipeline/measures.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace kurage::pipeline {
+
+double interpolateSeries(const std::vector<SeriesPoint>& series, double x) {
+  if (series.empty()) return 0.0;
+  if (x <= series.front().x) return series.front().y;
+  for (size_t i = 1; i < series.size(); ++i)
+    if (series[i].x >= x) {
+      const double f = (x - series[i - 1].x) / (series[i].x - series[i - 1].x);
+      return series[i - 1].y + f * (series[i].y - series[i - 1].y);
+    }
+  return series.back().y;
+}
+
+SeriesError meanRelativeError(const std::vector<SeriesPoint>& measured, const std::vector<SeriesPoint>& reference) {
+  SeriesError e;
+  if (measured.empty()) return e;
+  const double last = measured.back().x;
+  for (const SeriesPoint& r : reference) {
+    if (r.x > last * (1.0 + 1e-9)) continue;
+    e.meanRelative += std::fabs(interpolateSeries(measured, r.x) - r.y) / r.y;
+    ++e.points;
+  }
+  if (e.points) e.meanRelative /= e.points;
+  return e;
+}
+
+MartinMoyce loadMartinMoyce(const std::filesystem::path& csv) {
+  std::ifstream in(csv);
+  if (!in) throw std::runtime_error(csv.string() + ": cannot open the Martin & Moyce data");
+  MartinMoyce data;
+  std::string line;
+  int lineNumber = 0;
+  while (std::getline(in, line)) {
+    ++lineNumber;
+    if (line.empty() || line[0] == '#' || line.rfind("series", 0) == 0) continue;
+    std::stringstream fields(line);
+    std::string series, xText, yText;
+    std::getline(fields, series, ',');
+    std::getline(fields, xText, ',');
+    std::getline(fields, yText, ',');
+    SeriesPoint p;
+    try {
+      p = {std::stod(xText), std::stod(yText)};
+    } catch (const std::exception&) {
+      throw std::runtime_error(csv.string() + ":" + std::to_string(lineNumber) + ": expected series,x,y");
+    }
+    if (series == "surge_front") data.surgeFront.push_back(p);
+    else if (series == "column_height") data.columnHeight.push_back(p);
+    else throw std::runtime_error(csv.string() + ":" + std::to_string(lineNumber) + ": unknown series " + series);
+  }
+  if (data.surgeFront.empty() || data.columnHeight.empty())
+    throw std::runtime_error(csv.string() + ": no surge_front or column_height rows");
+  return data;
+}
+
+DamBreakTrack::DamBreakTrack(const DamBreakGeometry& geometry) : g_(geometry) {
+  if (!(g_.width > 0.0 && g_.height > 0.0 && g_.gravity > 0.0 && g_.spacing > 0.0))
+    throw std::invalid_argument("DamBreakTrack: width, height, gravity and spacing must be positive");
+  front_.push_back({0.0, 1.0});
+  column_.push_back({0.0, 1.0});
+}
+
+double DamBreakTrack::tau(double time) const { return time * std::sqrt(g_.gravity / g_.width); }
+double DamBreakTrack::timeAtTau(double tau) const { return tau / std::sqrt(g_.gravity / g_.width); }
+
+void DamBreakTrack::record(const sim::ParticleSet& s, double time) {
+  const double a = g_.width, l = g_.spacing;
+  xs_.clear();
+  double column = -1e30;
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s.kind[i] != 0) continue;
+    const double x = s.x[i] - g_.origin.x(), z = s.z[i] - g_.origin.z();
+    if (z < 0.25 * a) xs_.push_back(float(x));
+    if (x < 2 * l) column = std::max(column, z);
+  }
+  std::sort(xs_.begin(), xs_.end());
+  const double x = xs_.empty() ? 0.0 : xs_[size_t(0.998 * double(xs_.size() - 1))];
+  const double t = tau(time);
+  front_.push_back({t * std::sqrt(2.0), (x + 0.5 * l) / a});  // T = t sqrt(2g/a)
+  column_.push_back({t, column < -1e29 ? 0.0 : (column + 0.5 * l) / g_.height});
+}
+
+KindExtent kindExtent(const sim::ParticleSet& p, int kind) {
+  KindExtent e;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == kind) {
+      const Eigen::Vector3f x(p.x[i], p.y[i], p.z[i]);
+      e.min = e.min.cwiseMin(x);
+      e.max = e.max.cwiseMax(x);
+      e.centre += x.cast<double>();
+      ++e.count;
+    }
+  if (e.count) e.centre /= double(e.count);
+  return e;
+}
+
+double freeSurfaceHeight(const sim::ParticleSet& p, double cx, double cy, double clear, float cellSize, float spacing) {
+  std::map<std::pair<int, int>, float> top;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] != 0) continue;
+    const int cellX = int(std::floor(p.x[i] / cellSize)), cellY = int(std::floor(p.y[i] / cellSize));
+    const double mx = (cellX + 0.5) * cellSize, my = (cellY + 0.5) * cellSize;
+    if (std::hypot(mx - cx, my - cy) <= clear) continue;
+    const auto key = std::make_pair(cellX, cellY);
+    const auto it = top.find(key);
+    if (it == top.end() || it->second < p.z[i]) top[key] = p.z[i];
+  }
+  double sum = 0.0;
+  for (const auto& [key, z] : top) sum += z;
+  return top.empty() ? 0.0 : sum / double(top.size()) + 0.5 * spacing;
+}
+
+double submergedFraction(const sim::ParticleSet& p, int kind, float fluidSpacing) {
+  const KindExtent e = kindExtent(p, kind);
+  if (e.count == 0) return 0.0;
+  const double halfExtent = 0.5 * std::max(e.max.x() - e.min.x(), e.max.y() - e.min.y());
+  const double surface =
+      freeSurfaceHeight(p, e.centre.x(), e.centre.y(), halfExtent + 1.5 * fluidSpacing, fluidSpacing, fluidSpacing);
+  size_t below = 0;
+  for (size_t i = 0; i < p.size(); ++i) below += p.kind[i] == kind && p.z[i] < surface;
+  return double(below) / double(e.count);
+}
+
+MembraneLeak membraneLeak(const sim::ParticleSet& p, int kind, float fluidSpacing) {
+  const float lowest = kindExtent(p, kind).min.z();
+  MembraneLeak m;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == 0) {
+      ++m.fluid;
+      m.leaked += p.z[i] < lowest - 0.5f * fluidSpacing;
+    }
+  return m;
+}
+
+MetaballField::MetaballField(std::vector<Eigen::Vector3f> points, const render::MetaballParams& params)
+    : points_(std::move(points)), params_(params) {
+  if (points_.empty()) return;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  for (const Eigen::Vector3f& q : points_) {
+    centroid_ += q.cast<double>();
+    lo = lo.cwiseMin(q.cast<double>());
+    hi = hi.cwiseMax(q.cast<double>());
+  }
+  centroid_ /= double(points_.size());
+  for (const Eigen::Vector3f& q : points_) reach_ = std::max(reach_, (q.cast<double>() - centroid_).norm());
+  reach_ += params_.radius;
+  const double r = params_.radius;
+  lower_ = lo - Eigen::Vector3d::Constant(r);
+  for (int a = 0; a < 3; ++a) cells_[a] = std::max(1, int(std::ceil((hi[a] + r - lower_[a]) / r)));
+  const size_t cellCount = size_t(cells_.x()) * size_t(cells_.y()) * size_t(cells_.z());
+  std::vector<uint32_t> cellOf(points_.size());
+  cellStart_.assign(cellCount + 1, 0);
+  for (size_t i = 0; i < points_.size(); ++i) {
+    Eigen::Vector3i c;
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(int((points_[i][a] - lower_[a]) / r), 0, cells_[a] - 1);
+    cellOf[i] = uint32_t((size_t(c.z()) * size_t(cells_.y()) + size_t(c.y())) * size_t(cells_.x()) + size_t(c.x()));
+    ++cellStart_[cellOf[i] + 1];
+  }
+  for (size_t c = 0; c < cellCount; ++c) cellStart_[c + 1] += cellStart_[c];
+  cellPoints_.resize(points_.size());
+  std::vector<uint32_t> fill(cellStart_.begin(), cellStart_.end() - 1);
+  for (size_t i = 0; i < points_.size(); ++i) cellPoints_[fill[cellOf[i]]++] = uint32_t(i);
+}
+
+double MetaballField::operator()(const Eigen::Vector3d& x) const {
+  if (points_.empty()) return 0.0;
+  const double r = params_.radius, r2 = r * r;
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) c[a] = int(std::floor((x[a] - lower_[a]) / r));
+  double f = 0.0;
+  for (int k = c.z() - 1; k <= c.z() + 1; ++k)
+    for (int j = c.y() - 1; j <= c.y() + 1; ++j)
+      for (int i = c.x() - 1; i <= c.x() + 1; ++i) {
+        if (i < 0 || j < 0 || k < 0 || i >= cells_.x() || j >= cells_.y() || k >= cells_.z()) continue;
+        const size_t cell = (size_t(k) * size_t(cells_.y()) + size_t(j)) * size_t(cells_.x()) + size_t(i);
+        for (uint32_t n = cellStart_[cell]; n < cellStart_[cell + 1]; ++n) {
+          const double q = (points_[cellPoints_[n]].cast<double>() - x).squaredNorm() / r2;
+          if (q < 1.0) f += params_.strength * (1.0 - q) * (1.0 - q);
+        }
+      }
+  return f;
+}
+
+namespace {
+
+// The outermost point along centre + s * direction, s in [0, far], where inside(s) turns true,
+// marched inwards in steps of `step` and bisected to `tolerance`; negative when never inside.
+template <class Inside>
+double outermostCrossing(Inside inside, double far, double step, double tolerance) {
+  double outside = far;
+  if (inside(outside)) return -1.0;
+  for (double s = far - step;; s -= step) {
+    if (s < 0.0) s = 0.0;
+    if (inside(s)) {
+      double in = s, out = outside;
+      while (out - in > tolerance) {
+        const double mid = 0.5 * (in + out);
+        (inside(mid) ? in : out) = mid;
+      }
+      return 0.5 * (in + out);
+    }
+    outside = s;
+    if (s == 0.0) return -1.0;
+  }
+}
+
+}  // namespace
+
+SurfaceDistance surfaceDistance(const render::LevelSet& levelSet, const MetaballField& field,
+                                const render::MetaballParams& params, int rays) {
+  SurfaceDistance d;
+  const double voxel = params.voxelSize;
+  const double far = field.reach() + 2.0 * voxel;
+  const double step = 0.1 * std::min<double>(params.radius, voxel);
+  const double tolerance = 1e-6 * voxel;
+  const Eigen::Vector3d c = field.centroid();
+  double sum = 0.0, sumSquares = 0.0;
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < rays; ++k) {
+    const double z = 1.0 - (2.0 * k + 1.0) / rays;
+    const double rho = std::sqrt(std::max(0.0, 1.0 - z * z));
+    const Eigen::Vector3d dir(rho * std::cos(golden * k), rho * std::sin(golden * k), z);
+    const double exact = outermostCrossing([&](double s) { return field(c + s * dir) > params.threshold; }, far,
+                                           step, tolerance);
+    const double level = outermostCrossing(
+        [&](double s) { return levelSet.sample((c + s * dir).cast<float>()) < 0.0f; }, far, step, tolerance);
+    if (exact < 0.0 || level < 0.0) {
+      d.misses += (exact < 0.0) != (level < 0.0);
+      continue;
+    }
+    const double e = std::fabs(level - exact);
+    sum += e;
+    sumSquares += e * e;
+    d.max = std::max(d.max, e);
+    ++d.rays;
+  }
+  if (d.rays) {
+    d.mean = sum / d.rays;
+    d.rms = std::sqrt(sumSquares / d.rays);
+  }
+  return d;
+}
+
+double imageRmse(const render::Image& actual, const render::Image& reference) {
+  if (actual.width() != reference.width() || actual.height() != reference.height())
+    throw std::invalid_argument("imageRmse: the images differ in size");
+  const size_t pixels = size_t(actual.width()) * size_t(actual.height());
+  if (pixels == 0) return 0.0;
+  double sum = 0.0;
+  for (int y = 0; y < actual.height(); ++y)
+    for (int x = 0; x < actual.width(); ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double a = render::linearToSrgb(std::clamp(actual.at(x, y)[c], 0.0f, 1.0f));
+        const double b = render::linearToSrgb(std::clamp(reference.at(x, y)[c], 0.0f, 1.0f));
+        sum += (a - b) * (a - b);
+      }
+  return std::sqrt(sum / (3.0 * double(pixels)));
+}
+
+}  // namespace kurage::pipeline

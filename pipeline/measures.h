@@ -1,0 +1,149 @@
+// Error measures against references, shared by the studies (pipeline/study.h) and the tests:
+// the dam break against Martin & Moyce (1952), Archimedes' submerged fraction, fluid tunnelling
+// through a membrane, the distance of a metaball level set from the exact metaball surface, and
+// the RMSE between two images. Each takes particles or images as they are; none runs anything.
+//
+// Units: metres and seconds unless a name says otherwise; dimensionless series are Martin &
+// Moyce's (front Z = x / a against T = t sqrt(2 g / a), residual height H = h / (2a) against
+// tau = t sqrt(g / a)).
+#pragma once
+
+#include "render/image.h"
+#include "render/surfacing.h"
+#include "sim/particles.h"
+
+#include <Eigen/Core>
+
+#include <filesystem>
+#include <vector>
+
+namespace kurage::pipeline {
+
+struct SeriesPoint {
+  double x = 0.0, y = 0.0;
+};
+
+// y at x, linear between the points (sorted by x), the end values outside them.
+double interpolateSeries(const std::vector<SeriesPoint>& series, double x);
+
+struct SeriesError {
+  double meanRelative = 0.0;  // mean of |measured(x) - y| / y over the reference points used
+  int points = 0;             // reference points inside the measured range of x
+};
+// Compares `measured` (sorted by x) with each reference point whose x lies within the measured
+// range; points beyond it (a run shorter than the experiment) are left out and not counted.
+SeriesError meanRelativeError(const std::vector<SeriesPoint>& measured, const std::vector<SeriesPoint>& reference);
+
+// ---- Dam break: Martin & Moyce (1952) ----
+
+// The two series of tests/data/martin_moyce_1952.csv (a copy of ../shared/data/).
+struct MartinMoyce {
+  std::vector<SeriesPoint> surgeFront;    // (T, Z)
+  std::vector<SeriesPoint> columnHeight;  // (tau, H)
+};
+// Throws std::runtime_error naming the path if the file is missing or malformed.
+MartinMoyce loadMartinMoyce(const std::filesystem::path& csv);
+
+// A column of width a (along x from the back wall at origin.x) and initial height `height`
+// standing on the floor z = origin.z, collapsing along +x under gravity g.
+struct DamBreakGeometry {
+  double width = 0.0;    // a, m
+  double height = 0.0;   // initial column height (2a in Martin & Moyce), m
+  double gravity = 0.0;  // |g|, m/s^2
+  double spacing = 0.0;  // fluid particle spacing l, m
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // back wall x, floor z
+};
+
+// Samples the surge front and the residual column height of the fluid (kind 0) over time, as
+// tests/test_dam_break.cpp and docs/VALIDATION.md define them: the front is the 99.8th
+// percentile of x over particles below z = a / 4 (robust to isolated spray), plus half a
+// spacing; the column height is the highest particle within two spacings of the back wall, plus
+// half a spacing. Both series start at (0, 1).
+class DamBreakTrack {
+public:
+  explicit DamBreakTrack(const DamBreakGeometry& geometry);
+  void record(const sim::ParticleSet& particles, double time);
+  const std::vector<SeriesPoint>& front() const { return front_; }    // (T, Z)
+  const std::vector<SeriesPoint>& column() const { return column_; }  // (tau, H)
+  // tau = t sqrt(g / a) for a time in seconds, and back.
+  double tau(double time) const;
+  double timeAtTau(double tau) const;
+
+private:
+  DamBreakGeometry g_;
+  std::vector<SeriesPoint> front_, column_;
+  std::vector<float> xs_;
+};
+
+// ---- Bodies ----
+
+// Extent of the particles of one kind (k >= 1: body k - 1).
+struct KindExtent {
+  Eigen::Vector3f min = Eigen::Vector3f::Constant(1e30f), max = Eigen::Vector3f::Constant(-1e30f);
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  size_t count = 0;
+};
+KindExtent kindExtent(const sim::ParticleSet& particles, int kind);
+
+// The free surface of the fluid away from a body: over columns `cellSize` wide (cells of the x-y
+// grid anchored at 0) whose centre lies farther than `clear` from (cx, cy) horizontally, the mean
+// height of the top fluid particle, plus half a fluid spacing. 0 when no column qualifies.
+double freeSurfaceHeight(const sim::ParticleSet& particles, double cx, double cy, double clear, float cellSize,
+                         float spacing);
+
+// Archimedes: the share of body `kind`'s particles whose centre lies below the free surface, the
+// surface measured clear of the body by its horizontal half extent plus 1.5 spacings.
+double submergedFraction(const sim::ParticleSet& particles, int kind, float fluidSpacing);
+
+// Fluid particles that have tunnelled through a membrane: those more than half a fluid spacing
+// below the membrane's lowest particle (its centre).
+struct MembraneLeak {
+  size_t fluid = 0;   // fluid particles in the scene
+  size_t leaked = 0;  // of which below the membrane
+};
+MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float fluidSpacing);
+
+// ---- Surfacing ----
+
+// The exact metaball field f(x) = sum s (1 - (|x - x_i| / R)^2)^2 of render/surfacing.h,
+// summed over all particles within R (a bucket grid of cell R).
+class MetaballField {
+public:
+  MetaballField(std::vector<Eigen::Vector3f> points, const render::MetaballParams& params);
+  double operator()(const Eigen::Vector3d& x) const;
+  const Eigen::Vector3d& centroid() const { return centroid_; }
+  double reach() const { return reach_; }  // max distance of a particle from the centroid, plus R
+
+private:
+  std::vector<Eigen::Vector3f> points_;
+  render::MetaballParams params_;
+  Eigen::Vector3d centroid_ = Eigen::Vector3d::Zero();
+  double reach_ = 0.0;
+  Eigen::Vector3i cells_ = Eigen::Vector3i::Zero();
+  Eigen::Vector3d lower_ = Eigen::Vector3d::Zero();
+  std::vector<uint32_t> cellStart_, cellPoints_;
+};
+
+// Distance of a level set's zero crossing from the exact surface f = T, along `rays` rays from
+// the particles' centroid in directions spread evenly over the sphere (a Fibonacci lattice):
+// on each ray, the outermost crossing of each (marched inwards from outside in steps of a tenth
+// of min(R, voxel), then bisected to 1e-6 of the voxel). The particle arrangement must be
+// star-shaped about its centroid for the distance along a ray to be the distance to the surface
+// (a lattice block or ball is); rays that miss one of the surfaces count as failures.
+struct SurfaceDistance {
+  double mean = 0.0;  // m
+  double max = 0.0;   // m
+  double rms = 0.0;   // m
+  int rays = 0;       // rays that found both crossings
+  int misses = 0;     // rays where only one surface was found
+};
+SurfaceDistance surfaceDistance(const render::LevelSet& levelSet, const MetaballField& field,
+                                const render::MetaballParams& params, int rays);
+
+// ---- Images ----
+
+// Root mean square difference of the RGB channels in sRGB-encoded values (clamped to [0, 1], as
+// PNG stores them), over every pixel. Throws std::invalid_argument when the sizes differ.
+double imageRmse(const render::Image& actual, const render::Image& reference);
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,844 @@
+#include "pipeline/study.h"
+
+#include "pipeline/cli.h"
+#include "pipeline/files.h"
+#include "pipeline/measures.h"
+#include "pipeline/particle_cache.h"
+#include "pipeline/stages.h"
+#include "render/plot.h"
+#include "render/tracer.h"
+#include "sim/simulation.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <sstream>
+
+namespace kurage::pipeline {
+
+namespace fs = std::filesystem;
+
+inline const EnumTable<StudyMeasure> kStudyMeasure{{"dam_break_front", StudyMeasure::DamBreakFront},
+                                                   {"dam_break_column", StudyMeasure::DamBreakColumn},
+                                                   {"buoyancy", StudyMeasure::Buoyancy},
+                                                   {"membrane_leak", StudyMeasure::MembraneLeak},
+                                                   {"surface_distance", StudyMeasure::SurfaceDistance},
+                                                   {"render_rmse", StudyMeasure::RenderRmse},
+                                                   {"none", StudyMeasure::None}};
+
+std::string_view studyMeasureName(StudyMeasure measure) {
+  for (const auto& [name, m] : kStudyMeasure)
+    if (m == measure) return name;
+  return "?";
+}
+
+// ---- The study file's registry (strict loading with pipeline/param_visitor.h) ----
+
+template <class V>
+void describe(V& v, StudyVariant& p) {
+  v.value("label", p.label, {"", "the variant's name in the CSV, the plot and the summary", {}, true});
+  v.value("set", p.set, {"", "scene values it sets: {\"json.path\": value, ...}", {}, true});
+}
+
+template <class V>
+void describe(V& v, StudyKnob& p) {
+  v.value("name", p.name, {"", "column and label name (default: the path)"});
+  v.value("path", p.path, {"", "JSON path into the scene, e.g. \"time_step.fixed_step\" or \"bodies[0].spacing\""});
+  nlohmann::json raw;
+  v.value("values", raw, {"", "the values the path takes, one run each"});
+  if (!raw.is_null()) {
+    if (!raw.is_array() || raw.empty()) v.fail("values", "must be a non-empty array, got " + raw.dump());
+    p.values.assign(raw.begin(), raw.end());
+  }
+  v.list("variants", p.variants, {"", "instead of path and values: labelled sets of scene values"});
+}
+
+template <class V>
+void describe(V& v, Study& s) {
+  v.ignore("$schema");
+  v.value("name", s.name, {"", "study name"});
+  v.value("description", s.description, {"", "what it measures and how its scene differs from the committed ones"});
+  v.value("scene", s.scene, {"", "base scene file, relative to the study file's folder", {}, true});
+  v.value("set", s.set, {"", "scene values set in every run before the knobs: {\"json.path\": value, ...}"});
+  v.list("knobs", s.knobs, {"", "one or two knobs; the runs are every combination of their values", {}, true});
+  v.enumeration("measure", s.measure, kStudyMeasure, {"", "the error measure (pipeline/study.h)", {}, true});
+  v.value("duration", s.duration, {"s", "simulated time of each run", nonNegative(), true});
+  v.value("error_threshold", s.errorThreshold, {"", "the accepted error, in the measure's unit", nonNegative()});
+  v.value("reference_data", s.referenceData, {"", "dam break: Martin & Moyce CSV, relative to the study file"});
+  v.value("average_from", s.averageFrom, {"s", "buoyancy: average the submerged fraction from this time", nonNegative()});
+  v.value("sample_interval", s.sampleInterval, {"s", "buoyancy: time between samples", positive()});
+  v.value("body", s.body, {"", "buoyancy, membrane_leak: index of the body", between(0, 1000)});
+  v.value("rays", s.rays, {"", "surface_distance: rays from the particles' centroid", between(1, 1000000)});
+  v.value("reference_samples", s.referenceSamples, {"", "render_rmse: samples per pixel of the reference", between(1, 65536)});
+  v.value("reference_max_depth", s.referenceMaxDepth, {"", "render_rmse: max depth of the reference", between(1, 1024)});
+}
+
+// ---- JSON paths ----
+
+void setJsonPath(nlohmann::json& document, const std::string& path, const nlohmann::json& value) {
+  if (path.empty()) throw std::invalid_argument("an empty JSON path");
+  nlohmann::json* at = &document;
+  size_t i = 0;
+  std::string walked;
+  while (i < path.size()) {
+    if (path[i] == '[') {
+      const size_t close = path.find(']', i);
+      if (close == std::string::npos || close == i + 1)
+        throw std::invalid_argument("\"" + path + "\": expected an index in [ ] at " + std::to_string(i));
+      const std::string digits = path.substr(i + 1, close - i - 1);
+      if (digits.find_first_not_of("0123456789") != std::string::npos)
+        throw std::invalid_argument("\"" + path + "\": [" + digits + "] is not an index");
+      const size_t index = std::stoul(digits);
+      if (!at->is_array())
+        throw std::invalid_argument("\"" + path + "\": " + (walked.empty() ? "the scene" : walked) + " is not an array");
+      if (index >= at->size())
+        throw std::invalid_argument("\"" + path + "\": " + walked + " has " + std::to_string(at->size()) +
+                                    " element(s), no [" + digits + "]");
+      at = &(*at)[index];
+      walked += "[" + digits + "]";
+      i = close + 1;
+      if (i < path.size() && path[i] != '.' && path[i] != '[')
+        throw std::invalid_argument("\"" + path + "\": expected . or [ after ]");
+      if (i < path.size() && path[i] == '.') ++i;
+      continue;
+    }
+    size_t end = path.find_first_of(".[", i);
+    if (end == std::string::npos) end = path.size();
+    const std::string key = path.substr(i, end - i);
+    if (key.empty()) throw std::invalid_argument("\"" + path + "\": an empty key at " + std::to_string(i));
+    if (at->is_null()) *at = nlohmann::json::object();
+    if (!at->is_object())
+      throw std::invalid_argument("\"" + path + "\": " + (walked.empty() ? "the scene" : walked) + " is not an object");
+    at = &(*at)[key];
+    walked += (walked.empty() ? "" : ".") + key;
+    i = end;
+    if (i < path.size() && path[i] == '.') {
+      ++i;
+      if (i == path.size()) throw std::invalid_argument("\"" + path + "\": ends with .");
+    }
+  }
+  *at = value;
+}
+
+namespace {
+
+std::string labelOf(const nlohmann::json& value) {
+  if (value.is_string()) return value.get<std::string>();
+  return value.dump();
+}
+
+fs::path besideStudy(const Study& study, const std::string& relative) {
+  const fs::path p(relative);
+  return p.is_absolute() ? p : study.file.parent_path() / p;
+}
+
+nlohmann::json readJsonFile(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return nlohmann::json::parse(text.str());
+}
+
+// The knob settings, one list per knob.
+std::vector<std::vector<KnobSetting>> allSettings(const Study& study) {
+  std::vector<std::vector<KnobSetting>> out;
+  for (const StudyKnob& k : study.knobs) out.push_back(knobSettings(k));
+  return out;
+}
+
+// Every combination of one setting per knob, the first knob varying fastest.
+std::vector<std::vector<size_t>> combinations(const std::vector<std::vector<KnobSetting>>& settings) {
+  std::vector<std::vector<size_t>> out{{}};
+  for (const auto& knob : settings) {
+    std::vector<std::vector<size_t>> next;
+    for (size_t v = 0; v < knob.size(); ++v)
+      for (const auto& prefix : out) {
+        std::vector<size_t> c = prefix;
+        c.push_back(v);
+        next.push_back(std::move(c));
+      }
+    out = std::move(next);
+  }
+  // Reorder so that the first knob varies fastest: sort by the later knobs first.
+  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) {
+    for (size_t k = a.size(); k-- > 0;)
+      if (a[k] != b[k]) return a[k] < b[k];
+    return false;
+  });
+  return out;
+}
+
+// What a measure needs of the scene; an empty string when it has it.
+std::string measureProblem(const Study& study, const Scene& scene) {
+  switch (study.measure) {
+    case StudyMeasure::DamBreakFront:
+    case StudyMeasure::DamBreakColumn:
+      if (scene.sim.fluidBlocks.empty()) return "a dam break needs fluid_blocks[0] (the column)";
+      if (scene.sim.gravity.norm() <= 0.0f) return "a dam break needs gravity";
+      break;
+    case StudyMeasure::Buoyancy:
+    case StudyMeasure::MembraneLeak:
+      if (size_t(study.body) >= scene.sim.bodies.size())
+        return "body " + std::to_string(study.body) + " is not in the scene (it has " +
+               std::to_string(scene.sim.bodies.size()) + " bodies)";
+      break;
+    case StudyMeasure::SurfaceDistance:
+    case StudyMeasure::RenderRmse:
+    case StudyMeasure::None:
+      break;
+  }
+  return {};
+}
+
+}  // namespace
+
+std::vector<KnobSetting> knobSettings(const StudyKnob& knob) {
+  std::vector<KnobSetting> out;
+  for (const nlohmann::json& v : knob.values) out.push_back({labelOf(v), {{knob.path, v}}});
+  for (const StudyVariant& variant : knob.variants) {
+    KnobSetting s{variant.label, {}};
+    for (const auto& [path, value] : variant.set.items()) s.set.emplace_back(path, value);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+nlohmann::json studyRunScene(const Study& study, const std::vector<const KnobSetting*>& settings) {
+  nlohmann::json scene = readJsonFile(besideStudy(study, study.scene));
+  for (const auto& [path, value] : study.set.items()) setJsonPath(scene, path, value);
+  for (const KnobSetting* s : settings)
+    for (const auto& [path, value] : s->set) setJsonPath(scene, path, value);
+  return scene;
+}
+
+Study parseStudy(const nlohmann::json& document, const fs::path& file) {
+  const std::string name = file.string();
+  if (!document.is_object()) throw SceneError(name, "", "a study must be a JSON object");
+  Study study;
+  JsonReader reader(document, name, "");
+  describe(reader, study);
+  reader.finish();
+  study.file = file;
+  auto fail = [&name](const std::string& path, const std::string& message) { throw SceneError(name, path, message); };
+
+  if (!study.set.is_object()) fail("set", "must be an object of JSON paths and values, got " + study.set.dump());
+  if (study.knobs.empty() || study.knobs.size() > 2) fail("knobs", "must hold one or two knobs");
+  for (size_t k = 0; k < study.knobs.size(); ++k) {
+    StudyKnob& knob = study.knobs[k];
+    const std::string path = "knobs[" + std::to_string(k) + "]";
+    const bool byPath = !knob.path.empty() || !knob.values.empty();
+    if (byPath && !knob.variants.empty()) fail(path, "give either path and values or variants, not both");
+    if (!byPath && knob.variants.empty()) fail(path, "needs path and values, or variants");
+    if (byPath && knob.path.empty()) fail(path + ".path", "is required with values");
+    if (byPath && knob.values.empty()) fail(path + ".values", "is required with path");
+    for (size_t i = 0; i < knob.variants.size(); ++i)
+      if (!knob.variants[i].set.is_object())
+        fail(path + ".variants[" + std::to_string(i) + "].set", "must be an object of JSON paths and values");
+    if (knob.name.empty()) knob.name = byPath ? knob.path : "variant";
+  }
+  if (study.measure != StudyMeasure::None && study.errorThreshold < 0.0)
+    fail("error_threshold", "is required for the measure " + std::string(studyMeasureName(study.measure)));
+  if (study.measure == StudyMeasure::DamBreakFront || study.measure == StudyMeasure::DamBreakColumn) {
+    if (study.referenceData.empty()) fail("reference_data", "is required for a dam break (the Martin & Moyce CSV)");
+    try {
+      loadMartinMoyce(besideStudy(study, study.referenceData));
+    } catch (const std::exception& e) {
+      fail("reference_data", e.what());
+    }
+  }
+  if (study.measure == StudyMeasure::Buoyancy && study.averageFrom > study.duration)
+    fail("average_from", "must not be after the duration");
+
+  // The base scene, then every knob value alone, then every combination, as scenes.
+  const fs::path sceneFile = besideStudy(study, study.scene);
+  loadScene(sceneFile);  // the base scene's own errors name the scene file
+  const std::string sceneName = sceneFile.string();
+  // `pathPath`: where a JSON path that does not fit the scene is named.
+  auto check = [&](const std::string& studyPath, const std::vector<const KnobSetting*>& settings,
+                   const std::string& pathPath) {
+    nlohmann::json doc;
+    try {
+      doc = studyRunScene(study, settings);
+    } catch (const std::invalid_argument& e) {
+      fail(pathPath, e.what());
+    }
+    try {
+      const Scene scene = parseScene(doc, sceneName);
+      const std::string problem = measureProblem(study, scene);
+      if (!problem.empty()) fail(studyPath, problem);
+    } catch (const SceneError& e) {
+      if (e.file() == name) throw;
+      fail(studyPath, "the scene refuses it: " + std::string(e.what()));
+    }
+  };
+  check("set", {}, "set");
+  const auto settings = allSettings(study);
+  for (size_t k = 0; k < settings.size(); ++k)
+    for (size_t i = 0; i < settings[k].size(); ++i) {
+      const StudyKnob& knob = study.knobs[k];
+      const std::string knobPath = "knobs[" + std::to_string(k) + "]";
+      const std::string path = knobPath + (knob.variants.empty() ? ".values[" : ".variants[") + std::to_string(i) + "]";
+      check(path, {&settings[k][i]}, knob.variants.empty() ? knobPath + ".path" : path + ".set");
+    }
+  if (settings.size() > 1)
+    for (const auto& combo : combinations(settings)) {
+      std::vector<const KnobSetting*> chosen;
+      std::string labels;
+      for (size_t k = 0; k < combo.size(); ++k) {
+        chosen.push_back(&settings[k][combo[k]]);
+        labels += (labels.empty() ? "" : ", ") + study.knobs[k].name + " = " + settings[k][combo[k]].label;
+      }
+      check("knobs (" + labels + ")", chosen, "knobs");
+    }
+  return study;
+}
+
+Study loadStudy(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw SceneError(file.string(), "", "cannot open the study file");
+  std::stringstream text;
+  text << in.rdbuf();
+  nlohmann::json document;
+  try {
+    document = nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::parse_error& e) {
+    throw SceneError(file.string(), "", std::string("invalid JSON: ") + e.what());
+  }
+  return parseStudy(document, file);
+}
+
+std::vector<std::string> studyFigureNames(StudyMeasure measure) {
+  switch (measure) {
+    case StudyMeasure::DamBreakFront:
+    case StudyMeasure::DamBreakColumn:
+      return {"front_error", "column_error", "front_points", "column_points"};
+    case StudyMeasure::Buoyancy: return {"submerged_fraction", "specific_gravity", "samples"};
+    case StudyMeasure::MembraneLeak: return {"leaked", "fluid", "leaked_fraction", "collision_cap_hits"};
+    case StudyMeasure::SurfaceDistance:
+      return {"max_m", "rms_m", "rays", "misses", "active_voxels", "memory_mb"};
+    case StudyMeasure::RenderRmse: return {"total_mrays", "reference_seconds"};
+    case StudyMeasure::None: return {};
+  }
+  return {};
+}
+
+// ---- Running ----
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// The parts of a scene's JSON that the simulation depends on (the key of the simulation cache),
+// and those the surfaces depend on.
+std::string simulationKey(nlohmann::json doc) {
+  for (const char* k : {"$schema", "name", "description", "output", "surface", "render"}) doc.erase(k);
+  return doc.dump();
+}
+std::string surfaceKey(const nlohmann::json& doc) {
+  return simulationKey(doc) + (doc.contains("surface") ? doc["surface"].dump() : std::string());
+}
+
+struct SimOutcome {
+  sim::ParticleSet particles;
+  sim::SimStats stats;
+  double seconds = 0.0;
+  size_t capHits = 0;
+};
+
+// Runs the simulation to `duration`, calling `sample(sim)` at each of `times` (sorted, within
+// the duration); sampling is not timed.
+template <class Sample>
+SimOutcome simulate(const Scene& scene, double duration, const std::vector<double>& times, Sample sample) {
+  SimOutcome out;
+  const auto start = Clock::now();
+  sim::Simulation simulation(scene.sim);
+  double seconds = secondsSince(start);
+  for (double t : times) {
+    const auto s = Clock::now();
+    simulation.advanceTo(t);
+    seconds += secondsSince(s);
+    sample(simulation);
+  }
+  const auto s = Clock::now();
+  simulation.advanceTo(duration);
+  seconds += secondsSince(s);
+  out.seconds = seconds;
+  out.particles = simulation.particles();
+  out.stats = simulation.stats();
+  if (const sim::BodySystem* bodies = simulation.bodies()) out.capHits = bodies->stats().capHits;
+  return out;
+}
+
+void takeSimFigures(StudyRow& row, const SimOutcome& sim) {
+  row.simSeconds = sim.seconds;
+  row.simStages.assign(sim.stats.stageSeconds.begin(), sim.stats.stageSeconds.end());
+  row.steps = sim.stats.steps;
+  row.particles = sim.particles.size();
+}
+
+ParticleFrame frameOf(const sim::ParticleSet& p, double time) {
+  ParticleFrame f;
+  f.time = time;
+  f.px = p.x; f.py = p.y; f.pz = p.z;
+  f.vx = p.vx; f.vy = p.vy; f.vz = p.vz;
+  f.id = p.id;
+  f.kind = p.kind;
+  return f;
+}
+
+class StudyRunner {
+public:
+  explicit StudyRunner(const Study& study) : study_(study) {
+    if (study.measure == StudyMeasure::DamBreakFront || study.measure == StudyMeasure::DamBreakColumn)
+      reference_ = loadMartinMoyce(besideStudy(study, study.referenceData));
+  }
+
+  void run(const nlohmann::json& doc, const Scene& scene, StudyRow& row) {
+    switch (study_.measure) {
+      case StudyMeasure::DamBreakFront:
+      case StudyMeasure::DamBreakColumn: damBreak(scene, row); break;
+      case StudyMeasure::Buoyancy: buoyancy(scene, row); break;
+      case StudyMeasure::MembraneLeak: membrane(scene, row); break;
+      case StudyMeasure::SurfaceDistance: surfaceDistanceRun(doc, scene, row); break;
+      case StudyMeasure::RenderRmse: renderRmseRun(doc, scene, row); break;
+      case StudyMeasure::None: {
+        takeSimFigures(row, simulate(scene, study_.duration, {}, [](const sim::Simulation&) {}));
+        row.totalSeconds = row.simSeconds;
+        break;
+      }
+    }
+  }
+
+private:
+  void damBreak(const Scene& scene, StudyRow& row) {
+    const sim::FluidBlock& block = scene.sim.fluidBlocks.front();
+    DamBreakGeometry g;
+    g.width = block.max.x() - block.min.x();
+    g.height = block.max.z() - block.min.z();
+    g.gravity = scene.sim.gravity.norm();
+    g.spacing = scene.sim.fluid.spacing;
+    g.origin = scene.sim.container.min.cast<double>();
+    DamBreakTrack track(g);
+    std::vector<double> times;  // every 0.05 in tau, as tests/test_dam_break.cpp
+    for (int k = 1; track.timeAtTau(0.05 * k) < study_.duration * (1.0 - 1e-9); ++k) times.push_back(track.timeAtTau(0.05 * k));
+    times.push_back(study_.duration);
+    const SimOutcome sim = simulate(scene, study_.duration, times,
+                                    [&](const sim::Simulation& s) { track.record(s.particles(), s.time()); });
+    takeSimFigures(row, sim);
+    row.totalSeconds = row.simSeconds;
+    const SeriesError front = meanRelativeError(track.front(), reference_.surgeFront);
+    const SeriesError column = meanRelativeError(track.column(), reference_.columnHeight);
+    row.figures = {front.meanRelative, column.meanRelative, double(front.points), double(column.points)};
+    const SeriesError& chosen = study_.measure == StudyMeasure::DamBreakFront ? front : column;
+    if (chosen.points == 0) throw std::runtime_error("the run ends before the first reference point");
+    row.error = chosen.meanRelative;
+  }
+
+  void buoyancy(const Scene& scene, StudyRow& row) {
+    const double from = study_.averageFrom < 0.0f ? 0.5 * study_.duration : study_.averageFrom;
+    std::vector<double> times;
+    for (int k = 0; from + k * double(study_.sampleInterval) <= study_.duration * (1.0 + 1e-9); ++k)
+      times.push_back(std::min<double>(from + k * double(study_.sampleInterval), study_.duration));
+    double sum = 0.0;
+    const int kind = study_.body + 1;
+    const SimOutcome sim = simulate(scene, study_.duration, times, [&](const sim::Simulation& s) {
+      sum += submergedFraction(s.particles(), kind, scene.sim.fluid.spacing);
+    });
+    takeSimFigures(row, sim);
+    row.totalSeconds = row.simSeconds;
+    const double fraction = sum / double(times.size());
+    const double gravity = scene.sim.bodies[size_t(study_.body)].specificGravity;
+    row.figures = {fraction, gravity, double(times.size())};
+    row.error = std::fabs(fraction - gravity);
+  }
+
+  void membrane(const Scene& scene, StudyRow& row) {
+    const SimOutcome sim = simulate(scene, study_.duration, {}, [](const sim::Simulation&) {});
+    takeSimFigures(row, sim);
+    row.totalSeconds = row.simSeconds;
+    const MembraneLeak leak = membraneLeak(sim.particles, study_.body + 1, scene.sim.fluid.spacing);
+    row.figures = {double(leak.leaked), double(leak.fluid),
+                   leak.fluid ? double(leak.leaked) / double(leak.fluid) : 0.0, double(sim.capHits)};
+    row.error = double(leak.leaked);
+  }
+
+  const SimOutcome& cachedSimulation(const nlohmann::json& doc, const Scene& scene) {
+    const std::string key = simulationKey(doc);
+    if (simKey_ != key || !sim_) {
+      sim_ = simulate(scene, study_.duration, {}, [](const sim::Simulation&) {});
+      simKey_ = key;
+    }
+    return *sim_;
+  }
+
+  void surfaceDistanceRun(const nlohmann::json& doc, const Scene& scene, StudyRow& row) {
+    const SimOutcome& sim = cachedSimulation(doc, scene);
+    takeSimFigures(row, sim);
+    std::vector<Eigen::Vector3f> points;
+    for (size_t i = 0; i < sim.particles.size(); ++i)
+      if (sim.particles.kind[i] == 0) points.emplace_back(sim.particles.x[i], sim.particles.y[i], sim.particles.z[i]);
+    if (points.empty()) throw std::runtime_error("no fluid particles to surface");
+    // The fastest of three builds: surfacing takes milliseconds, where one build is noisy.
+    render::LevelSet levelSet;
+    double best = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      const auto start = Clock::now();
+      levelSet = render::buildMetaballLevelSet(points, scene.surface.fluid);
+      best = std::min(best, secondsSince(start));
+    }
+    row.surfaceSeconds = best;
+    row.totalSeconds = best;
+    const MetaballField field(points, scene.surface.fluid);
+    const SurfaceDistance d = surfaceDistance(levelSet, field, scene.surface.fluid, study_.rays);
+    row.figures = {d.max, d.rms, double(d.rays), double(d.misses), double(levelSet.activeVoxelCount()),
+                   double(levelSet.memoryBytes()) / 1e6};
+    if (d.rays == 0) throw std::runtime_error("no ray crossed both surfaces");
+    row.error = d.mean;
+  }
+
+  void renderRmseRun(const nlohmann::json& doc, const Scene& scene, StudyRow& row) {
+    const SimOutcome& sim = cachedSimulation(doc, scene);
+    takeSimFigures(row, sim);
+    const std::string key = surfaceKey(doc);
+    if (surfacesKey_ != key) {
+      const auto start = Clock::now();
+      surfaces_ = surfaceFrame(scene, frameOf(sim.particles, study_.duration));
+      surfaceSeconds_ = secondsSince(start);
+      surfacesKey_ = key;
+    }
+    row.surfaceSeconds = surfaceSeconds_;
+    // The reference: the same scene with many samples, a deep path and another seed (so that its
+    // noise is independent of the run's).
+    nlohmann::json referenceDoc = doc;
+    setJsonPath(referenceDoc, "render.samples", study_.referenceSamples);
+    setJsonPath(referenceDoc, "render.max_depth", study_.referenceMaxDepth);
+    const int seed = scene.render.settings.seed;
+    setJsonPath(referenceDoc, "render.seed", seed == 2147483647 ? 0 : seed + 1);
+    const std::string referenceKey = key + referenceDoc["render"].dump();
+    if (referenceKey_ != referenceKey) {
+      const Scene referenceScene = parseScene(referenceDoc, "reference");
+      const auto start = Clock::now();
+      reference_image_ = renderSurfaces(referenceScene, surfaces_, study_.duration);
+      referenceSeconds_ = secondsSince(start);
+      referenceKey_ = referenceKey;
+    }
+    render::RenderStats stats;
+    const auto start = Clock::now();
+    const render::Image image = renderSurfaces(scene, surfaces_, study_.duration, &stats);
+    row.renderSeconds = secondsSince(start);
+    row.totalSeconds = row.renderSeconds;
+    row.figures = {double(stats.totalRays) * 1e-6, referenceSeconds_};
+    row.error = imageRmse(image, reference_image_);
+  }
+
+  const Study& study_;
+  MartinMoyce reference_;
+  std::optional<SimOutcome> sim_;
+  std::string simKey_, surfacesKey_, referenceKey_;
+  std::map<std::string, render::LevelSet> surfaces_;
+  double surfaceSeconds_ = 0.0, referenceSeconds_ = 0.0;
+  render::Image reference_image_;
+};
+
+// ---- Output ----
+
+std::string number(double v) {
+  if (!std::isfinite(v)) return "";
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+std::string shortNumber(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3g", v);
+  return buffer;
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+  return out + "\"";
+}
+
+// The simulation stages that ran in any row.
+std::vector<size_t> stagesUsed(const std::vector<StudyRow>& rows) {
+  std::vector<size_t> used;
+  for (size_t s = 0; s < size_t(sim::Stage::Count); ++s)
+    for (const StudyRow& r : rows)
+      if (s < r.simStages.size() && r.simStages[s] > 0.0) {
+        used.push_back(s);
+        break;
+      }
+  return used;
+}
+
+bool timesSurface(StudyMeasure m) { return m == StudyMeasure::SurfaceDistance || m == StudyMeasure::RenderRmse; }
+bool timesRender(StudyMeasure m) { return m == StudyMeasure::RenderRmse; }
+
+std::string studyCsv(const Study& study, const std::vector<StudyRow>& rows) {
+  const std::vector<std::string> figures = studyFigureNames(study.measure);
+  const std::vector<size_t> stages = stagesUsed(rows);
+  std::ostringstream csv;
+  for (const StudyKnob& k : study.knobs) csv << csvField(k.name) << ",";
+  csv << "status,error";
+  for (const std::string& f : figures) csv << "," << f;
+  csv << ",total_s,sim_s";
+  for (size_t s : stages) csv << ",sim_" << sim::stageName(sim::Stage(s)) << "_s";
+  if (timesSurface(study.measure)) csv << ",surface_s";
+  if (timesRender(study.measure)) csv << ",render_s";
+  csv << ",steps,particles,message\n";
+  for (const StudyRow& r : rows) {
+    for (const std::string& label : r.knobLabels) csv << csvField(label) << ",";
+    csv << (r.ok ? "ok" : "failed") << "," << (r.ok && study.measure != StudyMeasure::None ? number(r.error) : "");
+    for (size_t f = 0; f < figures.size(); ++f) csv << "," << (f < r.figures.size() ? number(r.figures[f]) : "");
+    csv << "," << number(r.totalSeconds) << "," << number(r.simSeconds);
+    for (size_t s : stages) csv << "," << (s < r.simStages.size() ? number(r.simStages[s]) : "");
+    if (timesSurface(study.measure)) csv << "," << number(r.surfaceSeconds);
+    if (timesRender(study.measure)) csv << "," << number(r.renderSeconds);
+    csv << "," << r.steps << "," << r.particles << "," << csvField(r.message) << "\n";
+  }
+  return csv.str();
+}
+
+// A log axis when every value is positive and they span a decade or more.
+bool wantsLog(const std::vector<double>& values) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0.0;
+  for (double v : values) {
+    if (!std::isfinite(v)) continue;
+    if (v <= 0.0) return false;
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  return hi > 0.0 && hi >= 10.0 * lo;
+}
+
+const char* timedStages(StudyMeasure m) {
+  switch (m) {
+    case StudyMeasure::SurfaceDistance: return "surfacing";
+    case StudyMeasure::RenderRmse: return "rendering";
+    default: return "simulation";
+  }
+}
+
+std::string errorUnit(StudyMeasure m) {
+  switch (m) {
+    case StudyMeasure::DamBreakFront: return "surge front, mean relative error vs Martin & Moyce";
+    case StudyMeasure::DamBreakColumn: return "column height, mean relative error vs Martin & Moyce";
+    case StudyMeasure::Buoyancy: return "|submerged fraction - specific gravity|";
+    case StudyMeasure::MembraneLeak: return "fluid particles through the membrane";
+    case StudyMeasure::SurfaceDistance: return "mean distance from the exact surface (m)";
+    case StudyMeasure::RenderRmse: return "RMSE vs reference (sRGB)";
+    case StudyMeasure::None: return "";
+  }
+  return "";
+}
+
+void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const fs::path& file) {
+  render::Plot plot;
+  plot.title = study.name;
+  plot.width = 900;
+  plot.height = 560;
+  if (study.measure == StudyMeasure::None) {
+    // Timing only: seconds per run, in the order of the runs.
+    plot.x.label = "run";
+    plot.y.label = std::string("seconds (") + timedStages(study.measure) + ")";
+    render::PlotSeries s;
+    s.lines = false;
+    s.markers = true;
+    for (size_t i = 0; i < rows.size(); ++i) {
+      if (!rows[i].ok) continue;
+      s.x.push_back(double(i + 1));
+      s.y.push_back(rows[i].totalSeconds);
+      std::string label;
+      for (const std::string& l : rows[i].knobLabels) label += (label.empty() ? "" : ", ") + l;
+      s.pointLabels.push_back(label);
+    }
+    plot.x.min = 0.5;
+    plot.x.max = double(rows.size()) + 1.5;
+    plot.y.min = 0.0;
+    plot.legend = false;
+    plot.series.push_back(std::move(s));
+    render::writePlotPng(plot, file);
+    return;
+  }
+  plot.x.label = std::string("seconds (") + timedStages(study.measure) + ")";
+  plot.y.label = errorUnit(study.measure);
+  std::vector<double> xs, ys;
+  for (const StudyRow& r : rows)
+    if (r.ok) {
+      xs.push_back(r.totalSeconds);
+      ys.push_back(r.error);
+    }
+  plot.x.log = wantsLog(xs);
+  plot.y.log = wantsLog(ys);
+  // One series per value of the second knob; points labelled with the first knob's value.
+  const size_t groups = study.knobs.size() > 1 ? knobSettings(study.knobs[1]).size() : 1;
+  const std::vector<KnobSetting> second = study.knobs.size() > 1 ? knobSettings(study.knobs[1]) : std::vector<KnobSetting>{};
+  for (size_t g = 0; g < groups; ++g) {
+    render::PlotSeries s;
+    s.markers = true;
+    if (study.knobs.size() > 1) s.label = study.knobs[1].name + " = " + second[g].label;
+    else s.label = study.knobs[0].name;
+    for (const StudyRow& r : rows) {
+      if (study.knobs.size() > 1 && r.knobLabels[1] != second[g].label) continue;
+      if (!r.ok) continue;
+      s.x.push_back(r.totalSeconds);
+      s.y.push_back(r.error);
+      s.pointLabels.push_back(r.knobLabels[0]);
+    }
+    plot.series.push_back(std::move(s));
+  }
+  if (!xs.empty()) {
+    render::PlotSeries line;
+    line.label = "accepted error " + shortNumber(study.errorThreshold);
+    line.colour = Eigen::Vector3f(0.5f, 0.5f, 0.5f);
+    line.lineWidth = 1.0;
+    const double lo = *std::min_element(xs.begin(), xs.end()), hi = *std::max_element(xs.begin(), xs.end());
+    line.x = {lo, hi};
+    line.y = {study.errorThreshold, study.errorThreshold};
+    plot.series.push_back(std::move(line));
+  }
+  render::writePlotPng(plot, file);
+}
+
+std::string joinLabels(const Study& study, const StudyRow& r) {
+  std::string out;
+  for (size_t k = 0; k < r.knobLabels.size(); ++k)
+    out += (out.empty() ? "" : ", ") + study.knobs[k].name + " = " + r.knobLabels[k];
+  return out;
+}
+
+std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows, const StudyOptions& options) {
+  const std::vector<std::string> figures = studyFigureNames(study.measure);
+  std::ostringstream md;
+  md << "# Study: " << study.name << "\n\n";
+  if (!study.description.empty()) md << study.description << "\n\n";
+  md << "`kurage study " << study.file.generic_string() << " -o OUT";
+  if (options.threads > 0) md << " --threads " << options.threads;
+  md << "`: base scene `" << study.scene << "`, measure `" << studyMeasureName(study.measure) << "`";
+  if (study.measure != StudyMeasure::None) md << " (" << errorUnit(study.measure) << ")";
+  md << ", " << shortNumber(study.duration) << " s simulated";
+  if (study.measure != StudyMeasure::None) md << ", accepted error " << shortNumber(study.errorThreshold);
+  md << "; the time is the wall time of " << timedStages(study.measure) << ".\n\n";
+
+  if (study.measure == StudyMeasure::None) {
+    // What each variant costs, stage by stage, against the first run.
+    const std::vector<size_t> stages = stagesUsed(rows);
+    md << "| run | sim s | steps | saves vs first |";
+    for (size_t s : stages) md << " " << sim::stageName(sim::Stage(s)) << " s (share) |";
+    md << "\n| --- | ---: | ---: | ---: |";
+    for (size_t s = 0; s < stages.size(); ++s) md << " ---: |";
+    md << "\n";
+    const double base = rows.empty() ? 0.0 : rows.front().totalSeconds;
+    for (const StudyRow& r : rows) {
+      md << "| " << joinLabels(study, r) << " | ";
+      if (!r.ok) {
+        md << "failed: " << r.message << " |\n";
+        continue;
+      }
+      double stepSum = 0.0;
+      for (double v : r.simStages) stepSum += v;
+      md << shortNumber(r.totalSeconds) << " | " << r.steps << " | "
+         << (base > 0.0 ? shortNumber(100.0 * (base - r.totalSeconds) / base) + " %" : "") << " |";
+      for (size_t s : stages) {
+        const double v = s < r.simStages.size() ? r.simStages[s] : 0.0;
+        md << " " << (v > 0.0 ? shortNumber(v) + " (" + shortNumber(100.0 * v / stepSum) + " %)" : "-") << " |";
+      }
+      md << "\n";
+    }
+    return md.str();
+  }
+
+  md << "| run | error |";
+  for (const std::string& f : figures) md << " " << f << " |";
+  md << " seconds | steps | status |\n| --- | ---: |";
+  for (size_t f = 0; f < figures.size(); ++f) md << " ---: |";
+  md << " ---: | ---: | --- |\n";
+  const StudyRow* cheapest = nullptr;
+  const StudyRow* best = nullptr;
+  const StudyRow* dearest = nullptr;
+  for (const StudyRow& r : rows) {
+    md << "| " << joinLabels(study, r) << " | ";
+    if (!r.ok) {
+      md << " |";
+      for (size_t f = 0; f < figures.size(); ++f) md << " |";
+      md << " | | failed: " << r.message << " |\n";
+      continue;
+    }
+    md << shortNumber(r.error) << " |";
+    for (size_t f = 0; f < figures.size(); ++f) md << " " << (f < r.figures.size() ? shortNumber(r.figures[f]) : "") << " |";
+    md << " " << shortNumber(r.totalSeconds) << " | " << r.steps << " | ok |\n";
+    if (r.error <= study.errorThreshold && (!cheapest || r.totalSeconds < cheapest->totalSeconds)) cheapest = &r;
+    if (!best || r.error < best->error) best = &r;
+    if (!dearest || r.totalSeconds > dearest->totalSeconds) dearest = &r;
+  }
+  md << "\n";
+  if (cheapest) {
+    md << "**Cheapest setting within the accepted error (" << shortNumber(study.errorThreshold) << "): "
+       << joinLabels(study, *cheapest) << "**, error " << shortNumber(cheapest->error) << " in "
+       << shortNumber(cheapest->totalSeconds) << " s";
+    if (dearest && dearest != cheapest && cheapest->totalSeconds > 0.0)
+      md << " (" << shortNumber(dearest->totalSeconds / cheapest->totalSeconds) << " times less than the dearest run, "
+         << joinLabels(study, *dearest) << ")";
+    md << ".\n";
+  } else if (best) {
+    md << "**No setting reaches the accepted error (" << shortNumber(study.errorThreshold) << ")**; the smallest error is "
+       << shortNumber(best->error) << " with " << joinLabels(study, *best) << " in " << shortNumber(best->totalSeconds)
+       << " s.\n";
+  } else {
+    md << "**Every run failed.**\n";
+  }
+  return md.str();
+}
+
+}  // namespace
+
+std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options) {
+  ThreadLimit limit(options.threads);
+  fs::create_directories(options.outDir);
+  const auto settings = allSettings(study);
+  const auto combos = combinations(settings);
+  const std::string sceneName = besideStudy(study, study.scene).string();
+  StudyRunner runner(study);
+  std::vector<StudyRow> rows;
+  for (size_t c = 0; c < combos.size(); ++c) {
+    std::vector<const KnobSetting*> chosen;
+    StudyRow row;
+    for (size_t k = 0; k < combos[c].size(); ++k) {
+      chosen.push_back(&settings[k][combos[c][k]]);
+      row.knobLabels.push_back(chosen.back()->label);
+    }
+    const nlohmann::json doc = studyRunScene(study, chosen);
+    const Scene scene = parseScene(doc, sceneName);
+    try {
+      runner.run(doc, scene, row);
+      row.ok = true;
+    } catch (const sim::SimulationError& e) {
+      row.message = std::string("simulation stopped: ") + e.what();
+    } catch (const std::exception& e) {
+      row.message = std::string("error: ") + e.what();
+    }
+    if (options.progress)
+      std::fprintf(stderr, "study %s: run %zu/%zu (%s): %s\n", study.name.c_str(), c + 1, combos.size(),
+                   joinLabels(study, row).c_str(),
+                   row.ok ? ((study.measure == StudyMeasure::None ? std::string() : "error " + shortNumber(row.error) + ", ") +
+                             shortNumber(row.totalSeconds) + " s")
+                                .c_str()
+                          : row.message.c_str());
+    rows.push_back(std::move(row));
+  }
+  writeTextAtomic(options.outDir / "study.csv", studyCsv(study, rows));
+  writeStudyPlot(study, rows, options.outDir / "study.png");
+  writeTextAtomic(options.outDir / "study.md", studyMarkdown(study, rows, options));
+  return rows;
+}
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,129 @@
+// Studies: what accuracy costs in time. A study file names a base scene, one or two knobs (each
+// a JSON path into the scene with a list of values, or a list of labelled variants that set
+// several paths at once), an error measure against a reference, the simulated duration and the
+// error the user accepts. `kurage study STUDY.json -o OUT` runs every combination of the knob
+// values and writes, atomically:
+//   OUT/study.csv  one row per run: knob values, status, error, the measure's own figures, wall
+//                  seconds per stage (each simulation stage from sim::SimStats, surfacing,
+//                  rendering) and the total of the timed stages
+//   OUT/study.png  error against the timed seconds (log axes where the data spans a decade or
+//                  more), each point labelled with its knob value, the accepted error as a line
+//   OUT/study.md   the runs as a table and the cheapest setting within the accepted error
+//
+// Knobs edit the scene's JSON before it is parsed, so every scene key is a knob
+// ("time_step.fixed_step", "bodies[0].spacing", "render.samples"), and every combination is
+// validated as a scene before anything runs: a bad study or a knob value the scene refuses is a
+// SceneError naming the study file and the JSON path (exit 2). A run that fails (a
+// SimulationError, ...) is a row with the message, not the end of the study.
+//
+// Measures (pipeline/measures.h has the definitions) and the stages they time:
+//   dam_break_front, dam_break_column  mean relative error of the surge front / residual column
+//       height against Martin & Moyce (1952), `reference_data`; the column is fluid_blocks[0]
+//       standing at container.min.x. Times the simulation.
+//   buoyancy  |submerged fraction of bodies[body], averaged from `average_from` to the end every
+//       `sample_interval`, - its specific gravity| (Archimedes). Times the simulation.
+//   membrane_leak  fluid particles below the membrane bodies[body] at the end. Times the simulation.
+//   surface_distance  mean distance (m) of the fluid's level set at `duration` (0: the initial
+//       particle lattice) from the exact metaball surface, along `rays` rays. Times surfacing.
+//   render_rmse  RMSE (sRGB, 0..1) of the frame at `duration` against the same frame rendered
+//       with `reference_samples` samples, depth `reference_max_depth` and another seed. Times
+//       rendering (simulation and surfacing are shared by runs that differ only in render keys).
+//   none  no error: timing only (what switching an effect off saves). Times the simulation.
+#pragma once
+
+#include "pipeline/param_visitor.h"
+#include "pipeline/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace kurage::pipeline {
+
+enum class StudyMeasure { DamBreakFront, DamBreakColumn, Buoyancy, MembraneLeak, SurfaceDistance, RenderRmse, None };
+std::string_view studyMeasureName(StudyMeasure measure);
+
+// A knob variant: a label and the scene values it sets, {"json.path": value, ...}.
+struct StudyVariant {
+  std::string label;
+  nlohmann::json set = nlohmann::json::object();
+};
+
+struct StudyKnob {
+  std::string name;  // CSV column and plot label; default: the path
+  std::string path;  // a JSON path into the scene, with `values`
+  std::vector<nlohmann::json> values;
+  std::vector<StudyVariant> variants;  // instead of path and values
+};
+
+// One value of a knob, resolved: its label and what it sets.
+struct KnobSetting {
+  std::string label;
+  std::vector<std::pair<std::string, nlohmann::json>> set;
+};
+std::vector<KnobSetting> knobSettings(const StudyKnob& knob);
+
+struct Study {
+  std::string name = "study";
+  std::string description;
+  std::string scene;  // the base scene, relative to the study file's folder
+  nlohmann::json set = nlohmann::json::object();  // applied to the base scene before the knobs
+  std::vector<StudyKnob> knobs;  // one or two; runs are every combination
+  StudyMeasure measure = StudyMeasure::None;
+  float duration = 0.0f;        // simulated seconds
+  double errorThreshold = -1.0;  // the accepted error (required unless the measure is none)
+  std::string referenceData;     // dam break: the Martin & Moyce CSV, relative to the study file's folder
+  float averageFrom = -1.0f;     // buoyancy: s; < 0 = half the duration
+  float sampleInterval = 0.5f;   // buoyancy: s between samples
+  int body = 0;                  // buoyancy, membrane_leak: bodies[body]
+  int rays = 2000;               // surface_distance
+  int referenceSamples = 256;    // render_rmse
+  int referenceMaxDepth = 16;    // render_rmse
+
+  std::filesystem::path file;  // where it was loaded from (for relative paths and messages)
+};
+
+// Loads and validates a study and every scene it will run. Throws SceneError naming the file
+// (the study's, or the base scene's for an invalid base) and the JSON path.
+Study loadStudy(const std::filesystem::path& file);
+Study parseStudy(const nlohmann::json& document, const std::filesystem::path& file);
+
+// Sets the value at a JSON path ("a.b[2].c") of a document, creating missing object keys (an
+// unknown key is then refused by the scene loader). Throws std::invalid_argument for a malformed
+// path, an index past the end of an array, or a step into a value of the wrong type.
+void setJsonPath(nlohmann::json& document, const std::string& path, const nlohmann::json& value);
+
+// The scene of one run: the base scene's JSON with the study's `set` and the knob settings applied.
+nlohmann::json studyRunScene(const Study& study, const std::vector<const KnobSetting*>& settings);
+
+struct StudyOptions {
+  std::filesystem::path outDir;
+  int threads = 0;  // 0: all cores
+  bool progress = true;  // a line per run on stderr
+};
+
+// One row of study.csv.
+struct StudyRow {
+  std::vector<std::string> knobLabels;
+  bool ok = false;
+  std::string message;  // why the run failed
+  double error = 0.0;
+  std::vector<double> figures;     // the measure's own columns (studyFigureNames)
+  std::vector<double> simStages;   // seconds per sim::Stage
+  double simSeconds = 0.0, surfaceSeconds = 0.0, renderSeconds = 0.0;
+  double totalSeconds = 0.0;  // of the stages the measure times
+  uint64_t steps = 0;
+  size_t particles = 0;
+};
+std::vector<std::string> studyFigureNames(StudyMeasure measure);
+
+// Runs the study and writes OUT/study.csv, study.png and study.md. Returns the rows.
+std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options);
+
+// kurage study STUDY.json -o OUT [--threads N] [--quiet]   (pipeline/cmd_study.cpp)
+int commandStudy(std::vector<std::string> args);
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,262 @@
+// kurage study (label `unit`): the machinery on a tiny sweep (rows, plot, summary, a failed run
+// as a row), strict study files (exit 2 naming the JSON path), JSON paths into scenes, and the
+// measures of pipeline/measures.h against answers known in closed form.
+#include "pipeline/files.h"
+#include "pipeline/measures.h"
+#include "pipeline/study.h"
+#include "render/image.h"
+#include "test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <sstream>
+
+using namespace kurage;
+using namespace kurage::pipeline;
+using kurage::test::TempDir;
+
+namespace {
+
+std::vector<std::vector<std::string>> readCsv(const std::filesystem::path& file) {
+  std::vector<std::vector<std::string>> rows;
+  std::stringstream text(readText(file));
+  std::string line;
+  while (std::getline(text, line)) {
+    std::vector<std::string> fields;
+    std::string field;
+    bool quoted = false;
+    for (char c : line) {
+      if (c == '"') quoted = !quoted;
+      else if (c == ',' && !quoted) {
+        fields.push_back(field);
+        field.clear();
+      } else field += c;
+    }
+    fields.push_back(field);
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+size_t column(const std::vector<std::string>& header, const std::string& name) {
+  for (size_t i = 0; i < header.size(); ++i)
+    if (header[i] == name) return i;
+  ADD_FAILURE() << "no column " << name;
+  return 0;
+}
+
+// Two values of the adaptive step's CFL factor on the tiny dam break (200 particles, 0.3 s).
+nlohmann::json tinyStudy() {
+  return {{"name", "tiny"},
+          {"scene", (test::sourceDir() / "tests/scenes/tiny_dam_break.json").string()},
+          {"knobs", {{{"name", "cfl"}, {"path", "time_step.cfl"}, {"values", {0.2, 0.4}}}}},
+          {"measure", "dam_break_front"},
+          {"duration", 0.3},
+          {"error_threshold", 0.5},
+          {"reference_data", (test::sourceDir() / "tests/data/martin_moyce_1952.csv").string()}};
+}
+
+std::string writeStudy(const TempDir& dir, const nlohmann::json& study, const char* name = "study.json") {
+  const auto file = dir.path() / name;
+  writeTextAtomic(file, study.dump(2));
+  return file.string();
+}
+
+}  // namespace
+
+TEST(Study, TinySweepWritesRowsPlotAndSummary) {
+  TempDir dir;
+  const std::string file = writeStudy(dir, tinyStudy());
+  const auto out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("study " + file + " -o " + out.string() + " --threads 1", dir.path() / "log.txt"), 0)
+      << readText(dir.path() / "log.txt");
+  const auto csv = readCsv(out / "study.csv");
+  ASSERT_EQ(csv.size(), 3u) << "header and one row per value";
+  const auto& header = csv[0];
+  EXPECT_EQ(header[0], "cfl");
+  EXPECT_EQ(csv[1][0], "0.2");
+  EXPECT_EQ(csv[2][0], "0.4");
+  for (size_t r = 1; r <= 2; ++r) {
+    EXPECT_EQ(csv[r][column(header, "status")], "ok");
+    const double error = std::stod(csv[r][column(header, "error")]);
+    EXPECT_GT(error, 0.0);
+    EXPECT_LT(error, 1.0);
+    EXPECT_GT(std::stod(csv[r][column(header, "total_s")]), 0.0);
+    EXPECT_GT(std::stod(csv[r][column(header, "sim_density_s")]), 0.0);
+  }
+  // Half the CFL factor, about twice the steps.
+  const double steps02 = std::stod(csv[1][column(header, "steps")]), steps04 = std::stod(csv[2][column(header, "steps")]);
+  EXPECT_GT(steps02, 1.5 * steps04);
+  const render::Image plot = render::readPng(out / "study.png");
+  EXPECT_GT(plot.width(), 100);
+  const std::string md = readText(out / "study.md");
+  EXPECT_NE(md.find("Cheapest setting within the accepted error"), std::string::npos) << md;
+  EXPECT_NE(md.find("cfl = 0.4"), std::string::npos) << md;
+}
+
+TEST(Study, AFailedRunIsARowWithItsMessage) {
+  // A step floor above the CFL bound stops the second run at once.
+  nlohmann::json study = tinyStudy();
+  study["measure"] = "none";
+  study.erase("error_threshold");
+  study.erase("reference_data");
+  study["knobs"] = {{{"path", "time_step.min_step"}, {"values", {1e-5, 0.04}}}};
+  TempDir dir;
+  std::vector<StudyRow> rows;
+  StudyOptions options;
+  options.outDir = dir.path() / "out";
+  options.progress = false;
+  rows = runStudy(parseStudy(study, dir.path() / "study.json"), options);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_TRUE(rows[0].ok) << rows[0].message;
+  EXPECT_FALSE(rows[1].ok);
+  EXPECT_NE(rows[1].message.find("simulation stopped"), std::string::npos) << rows[1].message;
+  const auto csv = readCsv(options.outDir / "study.csv");
+  ASSERT_EQ(csv.size(), 3u);
+  EXPECT_EQ(csv[2][column(csv[0], "status")], "failed");
+  EXPECT_NE(csv[2].back().find("simulation stopped"), std::string::npos);
+  EXPECT_TRUE(std::filesystem::exists(options.outDir / "study.png"));
+}
+
+TEST(Study, TwoKnobsRunEveryCombinationFirstKnobFastest) {
+  nlohmann::json study = tinyStudy();
+  study["measure"] = "none";
+  study["duration"] = 0.05;
+  study["knobs"].push_back({{"name", "walls"},
+                            {"variants",
+                             {{{"label", "no slip"}, {"set", {{"container.walls", "no_slip"}}}},
+                              {{"label", "free slip"}, {"set", {{"container.walls", "free_slip"}}}}}}});
+  TempDir dir;
+  StudyOptions options;
+  options.outDir = dir.path();
+  options.progress = false;
+  const std::vector<StudyRow> rows = runStudy(parseStudy(study, dir.path() / "study.json"), options);
+  ASSERT_EQ(rows.size(), 4u);
+  const std::vector<std::vector<std::string>> expected{
+      {"0.2", "no slip"}, {"0.4", "no slip"}, {"0.2", "free slip"}, {"0.4", "free slip"}};
+  for (size_t i = 0; i < 4; ++i) EXPECT_EQ(rows[i].knobLabels, expected[i]);
+}
+
+TEST(Study, BadStudyFilesAreRefusedWithExit2NamingTheJsonPath) {
+  TempDir dir;
+  struct Case {
+    const char* what;
+    nlohmann::json study;
+    const char* path;
+  };
+  std::vector<Case> cases;
+  {
+    nlohmann::json s = tinyStudy();
+    s["knobs"][0]["valuez"] = {1};
+    cases.push_back({"unknown key", s, "knobs[0].valuez"});
+  }
+  {
+    nlohmann::json s = tinyStudy();
+    s["knobs"][0]["values"] = {0.4, 5.0};  // cfl must be <= 1
+    cases.push_back({"value the scene refuses", s, "knobs[0].values[1]"});
+  }
+  {
+    nlohmann::json s = tinyStudy();
+    s["knobs"][0]["path"] = "time_step.cfl_factor";  // not a scene key
+    cases.push_back({"path that is no scene key", s, "knobs[0].values[0]"});
+  }
+  {
+    nlohmann::json s = tinyStudy();
+    s["knobs"][0]["path"] = "fluid_blocks[3].max";
+    cases.push_back({"index past the end", s, "knobs[0].path"});
+  }
+  {
+    nlohmann::json s = tinyStudy();
+    s["measure"] = "accuracy";
+    cases.push_back({"unknown measure", s, "measure"});
+  }
+  {
+    nlohmann::json s = tinyStudy();
+    s.erase("error_threshold");
+    cases.push_back({"missing threshold", s, "error_threshold"});
+  }
+  for (const Case& c : cases) {
+    const std::string file = writeStudy(dir, c.study, "bad.json");
+    const auto log = dir.path() / "log.txt";
+    EXPECT_EQ(test::runKurage("study " + file + " -o " + (dir.path() / "out").string(), log), 2) << c.what;
+    const std::string message = readText(log);
+    EXPECT_NE(message.find(file + ": " + c.path + ":"), std::string::npos) << c.what << ": " << message;
+    EXPECT_FALSE(std::filesystem::exists(dir.path() / "out" / "study.csv")) << c.what << ": nothing runs";
+  }
+}
+
+TEST(Study, CommittedStudiesAreValid) {
+  // Every study under scenes/studies/ still fits the scenes it edits (a renamed scene key fails here).
+  size_t studies = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(test::sourceDir() / "scenes/studies")) {
+    if (entry.path().extension() != ".json") continue;
+    ++studies;
+    EXPECT_NO_THROW(loadStudy(entry.path())) << entry.path();
+  }
+  EXPECT_GE(studies, 5u);
+}
+
+TEST(JsonPath, SetsNestedKeysAndArrayElements) {
+  nlohmann::json doc = {{"bodies", {{{"spacing", 0.5}}}}};
+  setJsonPath(doc, "bodies[0].spacing", 0.25);
+  setJsonPath(doc, "time_step.fixed_step", 0.001);
+  setJsonPath(doc, "bodies[0].muscles", nlohmann::json::array());
+  EXPECT_EQ(doc["bodies"][0]["spacing"], 0.25);
+  EXPECT_EQ(doc["time_step"]["fixed_step"], 0.001);
+  EXPECT_TRUE(doc["bodies"][0]["muscles"].is_array());
+  EXPECT_THROW(setJsonPath(doc, "bodies[1].spacing", 1), std::invalid_argument);
+  EXPECT_THROW(setJsonPath(doc, "bodies.spacing", 1), std::invalid_argument);
+  EXPECT_THROW(setJsonPath(doc, "time_step.fixed_step.x", 1), std::invalid_argument);
+  EXPECT_THROW(setJsonPath(doc, "fluid..spacing", 1), std::invalid_argument);
+  EXPECT_THROW(setJsonPath(doc, "bodies[x]", 1), std::invalid_argument);
+}
+
+TEST(Measures, SeriesErrorUsesOnlyReferencePointsInsideTheRun) {
+  const std::vector<SeriesPoint> measured{{0, 1}, {1, 2}, {2, 3}};
+  const SeriesError e = meanRelativeError(measured, {{0.5, 1.5}, {1.5, 2.0}, {3.0, 1.0}});
+  EXPECT_EQ(e.points, 2);
+  EXPECT_NEAR(e.meanRelative, 0.5 * (0.0 + 0.25), 1e-12);
+}
+
+TEST(Measures, RmseOfAConstantOffsetIsTheOffset) {
+  render::Image a(4, 3, {0.2f, 0.2f, 0.2f, 1}), b(4, 3, {0.2f, 0.2f, 0.2f, 1});
+  EXPECT_EQ(imageRmse(a, b), 0.0);
+  const float shifted = render::srgbToLinear(render::linearToSrgb(0.2f) + 0.1f);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 4; ++x) b.at(x, y) = {shifted, shifted, shifted, 1};
+  EXPECT_NEAR(imageRmse(a, b), 0.1, 1e-5);
+  EXPECT_THROW(imageRmse(a, render::Image(2, 2)), std::invalid_argument);
+}
+
+TEST(Measures, ExactFieldOfOneBlobCrossesAtTheAnalyticRadius) {
+  // One particle: the surface f = T is the sphere R sqrt(1 - sqrt(T / s)). The exact field finds
+  // it to bisection precision; the level set within the 0.25 voxel of render/surfacing.h.
+  render::MetaballParams params;
+  params.radius = 2.0f;
+  params.threshold = 0.6f;
+  params.voxelSize = 0.25f;
+  const Eigen::Vector3f centre(0.3f, -0.2f, 0.1f);
+  const MetaballField field({centre}, params);
+  const double r0 = params.radius * std::sqrt(1.0 - std::sqrt(double(params.threshold)));
+  EXPECT_NEAR(field(centre.cast<double>() + Eigen::Vector3d(r0, 0, 0)), params.threshold, 1e-6);
+  const render::LevelSet ls = render::buildMetaballLevelSet({centre}, params);
+  const SurfaceDistance d = surfaceDistance(ls, field, params, 200);
+  EXPECT_EQ(d.rays, 200);
+  EXPECT_EQ(d.misses, 0);
+  EXPECT_GT(d.max, 0.0);
+  EXPECT_LT(d.max, 0.25 * params.voxelSize);
+  EXPECT_LE(d.mean, d.max);
+}
+
+TEST(Measures, MembraneLeakCountsFluidBelowTheLowestBodyParticle) {
+  sim::ParticleSet p;
+  p.add(0, 0, 5.0f, 0, 0, 0, 1000, 1, 0, 1);  // membrane particle
+  p.add(0, 0, 6.0f, 0, 0, 0, 1000, 1, 1, 0);  // above
+  p.add(0, 0, 4.6f, 0, 0, 0, 1000, 1, 2, 0);  // below, but within half a spacing
+  p.add(0, 0, 4.4f, 0, 0, 0, 1000, 1, 3, 0);  // through
+  const MembraneLeak leak = membraneLeak(p, 1, 1.0f);
+  EXPECT_EQ(leak.fluid, 3u);
+  EXPECT_EQ(leak.leaked, 1u);
+}
