@@ -641,36 +641,75 @@ std::string errorUnit(StudyMeasure m) {
   return "";
 }
 
+std::string errorAxis(StudyMeasure m) {
+  switch (m) {
+    case StudyMeasure::DamBreakFront: return "surge front error";
+    case StudyMeasure::DamBreakColumn: return "column height error";
+    case StudyMeasure::Buoyancy: return "|fraction - s.g.|";
+    case StudyMeasure::MembraneLeak: return "particles through";
+    case StudyMeasure::SurfaceDistance: return "mean distance (m)";
+    case StudyMeasure::RenderRmse: return "RMSE (sRGB)";
+    case StudyMeasure::None: return "";
+  }
+  return "";
+}
+
 void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const fs::path& file) {
   render::Plot plot;
   plot.title = study.name;
   plot.width = 900;
   plot.height = 560;
   if (study.measure == StudyMeasure::None) {
-    // Timing only: seconds per run, in the order of the runs.
+    // Timing only: the seconds of each run, in the order of the runs, and of the step stages that
+    // take at least 5 % of some run.
+    plot.title = study.name + ": simulation seconds by run and stage";
     plot.x.label = "run";
-    plot.y.label = std::string("seconds (") + timedStages(study.measure) + ")";
-    render::PlotSeries s;
-    s.lines = false;
-    s.markers = true;
+    plot.y.label = "seconds";
+    render::PlotSeries total;
+    total.label = "total";
+    total.lines = false;
+    total.markers = true;
+    total.markerSize = 10.0;
+    std::vector<double> ys;
     for (size_t i = 0; i < rows.size(); ++i) {
       if (!rows[i].ok) continue;
-      s.x.push_back(double(i + 1));
-      s.y.push_back(rows[i].totalSeconds);
+      total.x.push_back(double(i + 1));
+      total.y.push_back(rows[i].totalSeconds);
+      ys.push_back(rows[i].totalSeconds);
       std::string label;
       for (const std::string& l : rows[i].knobLabels) label += (label.empty() ? "" : ", ") + l;
-      s.pointLabels.push_back(label);
+      total.pointLabels.push_back(label);
     }
-    plot.x.min = 0.5;
-    plot.x.max = double(rows.size()) + 1.5;
-    plot.y.min = 0.0;
-    plot.legend = false;
-    plot.series.push_back(std::move(s));
+    plot.series.push_back(std::move(total));
+    double offset = -0.12;  // stages side by side to the right of each run's total
+    for (size_t stage : stagesUsed(rows)) {
+      bool large = false;
+      for (const StudyRow& r : rows)
+        if (r.ok && stage < r.simStages.size() && r.simStages[stage] >= 0.05 * r.totalSeconds) large = true;
+      if (!large) continue;
+      render::PlotSeries s;
+      s.label = std::string(sim::stageName(sim::Stage(stage)));
+      s.lines = false;
+      s.markers = true;
+      s.markerSize = 6.0;
+      for (size_t i = 0; i < rows.size(); ++i)
+        if (rows[i].ok && stage < rows[i].simStages.size()) {
+          s.x.push_back(double(i + 1) + offset);
+          s.y.push_back(rows[i].simStages[stage]);
+          ys.push_back(rows[i].simStages[stage]);
+        }
+      plot.series.push_back(std::move(s));
+      offset -= 0.04;
+    }
+    plot.x.min = 0.0;
+    plot.x.max = double(rows.size()) + 2.0;
+    plot.y.log = wantsLog(ys);
     render::writePlotPng(plot, file);
     return;
   }
+  plot.title = study.name + ": " + errorUnit(study.measure);
   plot.x.label = std::string("seconds (") + timedStages(study.measure) + ")";
-  plot.y.label = errorUnit(study.measure);
+  plot.y.label = errorAxis(study.measure);
   std::vector<double> xs, ys;
   for (const StudyRow& r : rows)
     if (r.ok) {
@@ -746,8 +785,13 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
       }
       double stepSum = 0.0;
       for (double v : r.simStages) stepSum += v;
-      md << shortNumber(r.totalSeconds) << " | " << r.steps << " | "
-         << (base > 0.0 ? shortNumber(100.0 * (base - r.totalSeconds) / base) + " %" : "") << " |";
+      md << shortNumber(r.totalSeconds) << " | " << r.steps << " | ";
+      if (&r == &rows.front() || base <= 0.0) md << "";
+      else if (r.totalSeconds <= base)
+        md << shortNumber(base - r.totalSeconds) << " s (" << shortNumber(100.0 * (base - r.totalSeconds) / base) << " %)";
+      else
+        md << "costs " << shortNumber(r.totalSeconds - base) << " s more (" << shortNumber(r.totalSeconds / base) << " times)";
+      md << " |";
       for (size_t s : stages) {
         const double v = s < r.simStages.size() ? r.simStages[s] : 0.0;
         md << " " << (v > 0.0 ? shortNumber(v) + " (" + shortNumber(100.0 * v / stepSum) + " %)" : "-") << " |";

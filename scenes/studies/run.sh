@@ -1,0 +1,20 @@
+#!/usr/bin/env bash
+# Runs the studies (all of scenes/studies/*.json, or those named) one after another on one
+# thread, and copies each one's study.csv, study.png and study.md to docs/accuracy/NAME.*.
+# Usage, from the repository root: scenes/studies/run.sh [KURAGE] [NAME ...]
+#   KURAGE defaults to build/kurage; NAME is a study file's name without .json.
+set -euo pipefail
+kurage=build/kurage
+if [[ $# -gt 0 && -x "$1" && ! -d "$1" ]]; then kurage=$1; shift; fi
+names=("$@")
+if [[ ${#names[@]} -eq 0 ]]; then
+  for f in scenes/studies/*.json; do names+=("$(basename "$f" .json)"); done
+fi
+mkdir -p docs/accuracy out/studies
+for name in "${names[@]}"; do
+  out=out/studies/$name
+  start=$(date +%s)
+  "$kurage" study "scenes/studies/$name.json" -o "$out" --threads 1
+  echo "$name: $(( $(date +%s) - start )) s"
+  for ext in csv png md; do cp "$out/study.$ext" "docs/accuracy/$name.$ext.tmp" && mv "docs/accuracy/$name.$ext.tmp" "docs/accuracy/$name.$ext"; done
+done
