@@ -555,9 +555,11 @@ std::string number(double v) {
   return buffer;
 }
 
+// Three significant digits; whole numbers below 10^7 as they are (2000, not 2e+03).
 std::string shortNumber(double v) {
   char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.3g", v);
+  if (std::isfinite(v) && v == std::round(v) && std::fabs(v) < 1e7) std::snprintf(buffer, sizeof buffer, "%.0f", v);
+  else std::snprintf(buffer, sizeof buffer, "%.3g", v);
   return buffer;
 }
 
