@@ -223,22 +223,36 @@ void Simulation::step(float dt) {
   integrate(dt, time_ + dt);
 }
 
-StepLimit Simulation::nextStepLimit() const {
-  const TimeStepParams& ts = params_.timeStep;
-  if (ts.mode == TimeStepMode::Fixed) return {ts.fixedStep, StepBound::Fixed};
-  const ParticleSet& p = particles_;
+namespace {
+// The inputs of the adaptive bounds in the current state (speeds, and accelerations of this step).
+StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, const BodySystem* bodies) {
   StepInputs in;
-  in.supportRadius = params_.fluid.supportRadiusMetres();
-  in.speedOfSound = params_.fluid.speedOfSound();
-  in.kinematicViscosity = params_.fluid.kinematicViscosity;
+  in.supportRadius = params.fluid.supportRadiusMetres();
+  in.speedOfSound = params.fluid.speedOfSound();
+  in.kinematicViscosity = params.fluid.kinematicViscosity;
   in.maxSpeed = std::sqrt(maxOver(p.size(), [&](size_t i) {
     return p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
   }));
   in.maxAcceleration = std::sqrt(maxOver(p.size(), [&](size_t i) {
     return p.ax[i] * p.ax[i] + p.ay[i] * p.ay[i] + p.az[i] * p.az[i];
   }));
-  if (bodies_) in.springStep = bodies_->springStep();
-  return adaptiveStep(ts, in);
+  if (bodies) in.springStep = bodies->springStep();
+  return in;
+}
+
+// A fixed step above the stability limits of the current state stops the run. The limits are the
+// adaptive bounds without their safety factors (time_step.*_factor: cfl 0.4, force 0.25, spring
+// 0.5): a Courant number of 1, h / (c + |v|max); the explicit spring and damper limit
+// min sqrt(2 m / K), m / D (a Gershgorin bound: exact for a chain, up to about 2 times too strict
+// for a 3-D body with an implicit damper); sqrt(h / |a|max). The viscous bound keeps its default
+// factor: 1.5 times 0.125 h^2 / nu already gains energy. Measured in docs/STABILITY.md.
+constexpr float kViscousLimitFactor = 0.125f;
+}  // namespace
+
+StepLimit Simulation::nextStepLimit() const {
+  const TimeStepParams& ts = params_.timeStep;
+  if (ts.mode == TimeStepMode::Fixed) return {ts.fixedStep, StepBound::Fixed};
+  return adaptiveStep(ts, currentStepInputs(params_, particles_, bodies_.get()));
 }
 
 StepLimit Simulation::stabilityLimit() const {
@@ -273,6 +287,27 @@ void Simulation::advanceTo(double t) {
           << limit.step << " s, below the floor time_step.min_step = " << params_.timeStep.minStep << " s";
       throw SimulationError(msg.str());
     }
+    if (params_.timeStep.mode == TimeStepMode::Fixed) {
+      // A fixed step far above the stability bounds does not always end in a non-finite value:
+      // the walls put escaping particles back and stop them, so the state can stay finite while
+      // its energy grows 3 to 2500 times over (tests/test_stability.cpp, TooLargeFixedStep). Stop
+      // instead, naming the bound, when the step exceeds a stability limit of the current state
+      // (kViscousLimitFactor above).
+      const StepInputs in = currentStepInputs(params_, particles_, bodies_.get());
+      TimeStepParams limits = params_.timeStep;
+      limits.cflFactor = limits.forceFactor = limits.springFactor = 1.0f;
+      limits.viscousFactor = kViscousLimitFactor;
+      const StepLimit edge = stabilityBound(limits, in);
+      if (params_.timeStep.fixedStep > edge.step) {
+        std::ostringstream msg;
+        msg << "time " << time_ << " s: the fixed step " << params_.timeStep.fixedStep << " s exceeds the "
+            << stepBoundName(edge.bound) << " stability limit of the current state, " << edge.step << " s ("
+            << params_.timeStep.fixedStep / edge.step << " times it; an explicit step beyond it is unstable); use "
+            << "time_step.fixed_step <= " << stabilityBound(params_.timeStep, in).step
+            << " s (the adaptive step now) or time_step.mode \"adaptive\"";
+        throw SimulationError(msg.str());
+      }
+    }
     const double remaining = t - time_;
     float dt = limit.step;
     if (remaining <= dt) dt = float(remaining);                    // land exactly on the frame
@@ -286,8 +321,8 @@ void Simulation::advanceTo(double t) {
     });
     if (!std::isfinite(vmax)) {
       std::ostringstream msg;
-      msg << "time " << time_ << " s: a particle velocity became non-finite (the step " << dt
-          << " s is too large for the scene's stiffness; try a smaller time_step)";
+      msg << "time " << time_ << " s: a particle velocity became non-finite (the step " << dt << " s, set by the "
+          << stepBoundName(limit.bound) << " bound, is too large for the scene's stiffness; try a smaller time_step)";
       throw SimulationError(msg.str());
     }
   }
