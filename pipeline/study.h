@@ -14,7 +14,8 @@
 // ("time_step.fixed_step", "bodies[0].spacing", "render.samples"), and every combination is
 // validated as a scene before anything runs: a bad study or a knob value the scene refuses is a
 // SceneError naming the study file and the JSON path (exit 2). A run that fails (a
-// SimulationError, ...) is a row with the message, not the end of the study.
+// SimulationError, ...) is a row with the message, not the end of the study. `repeat` runs each
+// setting several times and keeps the fastest: runs are deterministic, wall times are not.
 //
 // Measures (pipeline/measures.h has the definitions) and the stages they time:
 //   dam_break_front, dam_break_column  mean relative error of the surge front / residual column
@@ -82,6 +83,7 @@ struct Study {
   int rays = 2000;               // surface_distance
   int referenceSamples = 256;    // render_rmse
   int referenceMaxDepth = 16;    // render_rmse
+  int repeat = 1;  // runs per setting; the row keeps the fastest (runs are deterministic, times are not)
 
   std::filesystem::path file;  // where it was loaded from (for relative paths and messages)
 };
