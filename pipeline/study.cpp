@@ -712,7 +712,14 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
     render::writePlotPng(plot, file);
     return;
   }
-  plot.title = study.name + ": " + errorUnit(study.measure);
+  // The title names the measure and the failed runs (not drawn), as far as the width allows.
+  size_t failed = 0;
+  for (const StudyRow& r : rows) failed += !r.ok;
+  const std::string failures = failed ? " (" + std::to_string(failed) + " failed: study.csv)" : "";
+  const int room = plot.width - 20;
+  plot.title = study.name + ": " + errorUnit(study.measure) + failures;
+  if (render::textSize(plot.title, plot.textScale).x() > room) plot.title = study.name + ": " + errorAxis(study.measure) + failures;
+  if (render::textSize(plot.title, plot.textScale).x() > room) plot.title = study.name + failures;
   plot.x.label = std::string("seconds (") + timedStages(study.measure) + ")";
   plot.y.label = errorAxis(study.measure);
   std::vector<double> xs, ys;
