@@ -110,6 +110,18 @@ StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput) {
   return o;
 }
 
+const char* const kQualityHelp =
+    "  --quality Q        final (default: the scene as written) or preview (the scene's preview_quality:\n"
+    "                     by default half the resolution, a quarter of the samples, depth <= 6,\n"
+    "                     surface voxels twice as large)\n";
+
+Quality parseQuality(ArgParser& args) {
+  const std::optional<std::string> q = args.option({"--quality"});
+  if (!q || *q == "final") return Quality::Final;
+  if (*q == "preview") return Quality::Preview;
+  args.fail("--quality: expected preview or final, got " + *q);
+}
+
 ThreadLimit::ThreadLimit(int threads) {
   if (threads > 0)
     control_ = new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(threads));

@@ -43,6 +43,10 @@ struct StageCommandOptions {
 StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput);
 extern const char* const kStageOptionsHelp;
 
+// --quality preview|final (default final: the scene as written).
+Quality parseQuality(ArgParser& args);
+extern const char* const kQualityHelp;
+
 // RAII limit on TBB's worker threads (no limit for 0).
 class ThreadLimit {
 public:

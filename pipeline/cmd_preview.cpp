@@ -12,6 +12,7 @@
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
 #include "pipeline/scene.h"
+#include "pipeline/video.h"
 #include "render/preview.h"
 
 #include <algorithm>
@@ -20,9 +21,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 extern char** environ;
 
@@ -49,32 +47,6 @@ Eigen::Vector3f speedColour(float t) {
   const float x = t * 4.0f;
   const int i = std::min(3, int(x));
   return stops[i] + (x - float(i)) * (stops[i + 1] - stops[i]);
-}
-
-bool onPath(const std::string& program) {
-  const char* path = std::getenv("PATH");
-  if (!path) return false;
-  std::string all(path);
-  size_t start = 0;
-  while (start <= all.size()) {
-    const size_t end = std::min(all.find(':', start), all.size());
-    const fs::path candidate = fs::path(all.substr(start, end - start)) / program;
-    if (end > start && ::access(candidate.c_str(), X_OK) == 0) return true;
-    start = end + 1;
-  }
-  return false;
-}
-
-// Runs a program with arguments (no shell); returns its exit status, or -1.
-int runProgram(const std::vector<std::string>& argv) {
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  pid_t pid = 0;
-  if (posix_spawnp(&pid, args[0], nullptr, nullptr, args.data(), environ) != 0) return -1;
-  int status = 0;
-  if (waitpid(pid, &status, 0) != pid) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace
@@ -173,30 +145,7 @@ int commandPreview(std::vector<std::string> rawArgs) {
   std::printf("preview: %s\n", outFolder.string().c_str());
 
   if (!video) return 0;
-  const fs::path movie = options.stage.outDir / "preview.mp4";
-  char fps[32];
-  std::snprintf(fps, sizeof fps, "%g", double(scene.output.fps));
-  const std::vector<std::string> command = {
-      "ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", fps, "-start_number", std::to_string(first),
-      "-i", (outFolder / "%04d.png").string(), "-frames:v", std::to_string(frames), "-c:v", "libx264", "-pix_fmt",
-      "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-f", "mp4", temporaryPathFor(movie).string()};
-  if (!onPath("ffmpeg")) {
-    std::string line;
-    for (const std::string& part : command) {
-      const std::string shown = &part == &command.back() ? movie.string() : part;
-      line += (line.empty() ? "" : " ") + (shown.find_first_of("*()%") != std::string::npos ? "'" + shown + "'" : shown);
-    }
-    std::printf("ffmpeg is not on the PATH; to make a video: %s\n", line.c_str());
-    return 0;
-  }
-  const int status = runProgram(command);
-  if (status != 0) {
-    std::error_code ignored;
-    fs::remove(temporaryPathFor(movie), ignored);
-    throw std::runtime_error("ffmpeg failed (exit status " + std::to_string(status) + ") encoding " + movie.string());
-  }
-  fs::rename(temporaryPathFor(movie), movie);
-  std::printf("video: %s\n", movie.string().c_str());
+  encodeVideoAndReport(outFolder, first, frames, scene.output.fps, options.stage.outDir / "preview.mp4");
   return 0;
 }
 

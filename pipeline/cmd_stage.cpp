@@ -1,6 +1,7 @@
 // kurage run | sim | surface | render SCENE -o OUT
 #include "pipeline/cli.h"
 #include "pipeline/scene.h"
+#include "pipeline/video.h"
 #include "sim/simulation.h"
 
 #include <cstdio>
@@ -28,18 +29,27 @@ void checkFixedStep(const Scene& scene, const std::string& file, bool strict) {
 int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   ArgParser args(name, std::move(rawArgs));
   if (args.flag({"-h", "--help"})) {
-    std::printf("usage: kurage %s SCENE -o OUT [--frames A-B] [--threads N] [--progress] [--strict]\n\n", name.c_str());
-    if (name == "run") std::printf("Simulates, surfaces and renders: OUT/particles, OUT/surfaces, OUT/frames.\n\n");
+    std::printf("usage: kurage %s SCENE -o OUT [--frames A-B] [--threads N] [--progress] [--strict]\n"
+                "       [--quality preview|final] [--width W --height H --spp N --max-depth D]%s\n\n",
+                name.c_str(), name == "run" || name == "render" ? " [--no-video]" : "");
+    if (name == "run")
+      std::printf("Simulates, surfaces and renders: OUT/particles, OUT/surfaces, OUT/frames, and OUT/NAME.mp4\n"
+                  "(NAME = the scene's name) when ffmpeg is on the PATH.\n\n");
     if (name == "sim") std::printf("Simulates only: OUT/particles/NNNN.vdb.\n\n");
     if (name == "surface") std::printf("Metaball level sets from OUT/particles: OUT/surfaces/NNNN.vdb.\n\n");
-    if (name == "render") std::printf("Frames from OUT/surfaces: OUT/frames/NNNN.png.\n\n");
+    if (name == "render")
+      std::printf("Frames from OUT/surfaces: OUT/frames/NNNN.png, and OUT/NAME.mp4 when ffmpeg is on the PATH.\n\n");
     std::printf("options:\n%s  --strict           a fixed time step above the scene's stability bound is an error\n"
                 "  --width W, --height H, --spp N, --max-depth D\n"
-                "                     override the scene's render resolution, samples per pixel and path depth\n",
-                kStageOptionsHelp);
+                "                     override the scene's render resolution, samples per pixel and path depth\n"
+                "                     (after --quality)\n%s"
+                "  --no-video         (run, render) PNG frames only, no OUT/NAME.mp4\n",
+                kStageOptionsHelp, kQualityHelp);
     return 0;
   }
   const bool strict = args.flag({"--strict"});
+  const Quality quality = parseQuality(args);
+  const bool video = !args.flag({"--no-video"}) && (name == "run" || name == "render");
   const std::optional<int> width = args.intOption({"--width"}, 1, 16384);
   const std::optional<int> height = args.intOption({"--height"}, 1, 16384);
   const std::optional<int> spp = args.intOption({"--spp"}, 1, 65536);
@@ -51,6 +61,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
 
   // Everything is validated before the output folder is touched.
   Scene scene = loadScene(sceneFile);
+  applyQuality(scene, quality);
   if (width) scene.render.settings.width = *width;
   if (height) scene.render.settings.height = *height;
   if (spp) scene.render.settings.samplesPerPixel = *spp;
@@ -62,6 +73,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   std::filesystem::create_directories(options.stage.outDir);
   RunRecord record(options.stage.outDir, scene, sceneFile);
   record.data()["threads"] = ThreadLimit::current();
+  record.data()["quality"] = quality == Quality::Preview ? "preview" : "final";
   const bool all = name == "run";
   if (all || name == "sim") runSimStage(scene, options.stage, record);
   if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
@@ -69,6 +81,11 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
   const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
   std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());
+  if (video) {
+    const auto [first, last] = frameRange(scene, options.stage);
+    encodeVideoAndReport(options.stage.outDir / "frames", first, last - first + 1, scene.output.fps,
+                         options.stage.outDir / (scene.name + ".mp4"));
+  }
   return 0;
 }
 

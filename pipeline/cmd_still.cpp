@@ -29,7 +29,8 @@ constexpr const char* kHelp =
     "  -o, --output FILE    PNG to write (written atomically; its folder must exist)\n"
     "  --from OUT           read OUT/particles/NNNN.vdb (the frame nearest to T) instead of simulating\n"
     "  --width W, --height H, --spp N, --max-depth D, --seed S\n"
-    "                       override the scene's render settings\n"
+    "                       override the scene's render settings (after --quality)\n"
+    "  --quality Q          final (default) or preview (the scene's preview_quality)\n"
     "  --spheres BY         draw particles as spheres coloured by kind, speed or rest_density_factor\n"
     "  --clip X,Y,Z,NX,NY,NZ  remove everything (but the ground) on the side of the plane through\n"
     "                       (X,Y,Z) that the normal (NX,NY,NZ) points to: a cross-section\n"
@@ -74,6 +75,7 @@ int commandStill(std::vector<std::string> rawArgs) {
   const std::optional<std::string> clip = args.option({"--clip"});
   const bool sixteen = args.flag({"--16bit"});
   const bool transparent = args.flag({"--transparent"});
+  const Quality quality = parseQuality(args);
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one SCENE");
   if (!time) args.fail("missing --time T");
@@ -85,6 +87,7 @@ int commandStill(std::vector<std::string> rawArgs) {
   if (!fs::is_directory(outFolder)) args.fail("-o: folder " + outFolder.string() + " does not exist");
 
   Scene scene = loadScene(positional[0]);
+  applyQuality(scene, quality);
   render::RenderSettings& settings = scene.render.settings;
   if (width) settings.width = *width;
   if (height) settings.height = *height;

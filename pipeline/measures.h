@@ -10,6 +10,7 @@
 
 #include "render/image.h"
 #include "render/surfacing.h"
+#include "sim/params.h"
 #include "sim/particles.h"
 
 #include <Eigen/Core>
@@ -102,6 +103,38 @@ struct MembraneLeak {
   size_t leaked = 0;  // of which below the membrane
 };
 MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float fluidSpacing);
+
+// ---- Jellyfish (a shell body: the bell) ----
+
+// The bell's particles as built (t = 0), tracked by id: the wall layer of each (0 = innermost,
+// from its distance to the shell's centre) and the margin (the last ring of latitude of every
+// layer, polar angle within a quarter spacing of the opening angle).
+class ShellWall {
+public:
+  // `initial`: the particles at t = 0; `kind` = the shell's body index + 1.
+  ShellWall(const sim::BodyParams& shell, int kind, const sim::ParticleSet& initial, float fluidSpacing);
+  int kind() const { return kind_; }
+  // Mean distance of the margin particles from the bell's axis (the shell's axis through the
+  // centroid of all its particles), m.
+  double marginRadius(const sim::ParticleSet& particles) const;
+  // Fluid particles inside the wall: those with a particle of the innermost layer and one of the
+  // outermost layer within one body spacing, on opposite sides of it (the two offsets make an
+  // obtuse angle). The layers are one body spacing apart, so a fluid particle squeezed between
+  // them is found; one outside the wall, even at the margin where both layers end, is not.
+  size_t fluidInsideWall(const sim::ParticleSet& particles) const;
+  // Centre of mass of the bell (equal masses), m.
+  Eigen::Vector3d centre(const sim::ParticleSet& particles) const;
+
+private:
+  int kind_ = 1;
+  int layers_ = 1;
+  float spacing_ = 0.5f;  // body spacing, m
+  Eigen::Vector3d axis_ = Eigen::Vector3d::UnitZ();
+  std::vector<int64_t> sortedIds_;  // of the bell's particles, sorted
+  std::vector<int8_t> layer_;       // by position in sortedIds_
+  std::vector<uint8_t> margin_;     // idem
+  int indexOf(int64_t id) const;    // -1 if not a bell particle
+};
 
 // ---- Surfacing ----
 

@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -12,6 +13,18 @@
 namespace kurage::pipeline {
 
 int OutputParams::frameCount() const { return static_cast<int>(std::floor(double(duration) * fps + 1e-6)) + 1; }
+
+void applyQuality(Scene& scene, Quality quality) {
+  if (quality == Quality::Final) return;
+  const PreviewQuality& q = scene.previewQuality;
+  render::RenderSettings& r = scene.render.settings;
+  r.width = q.width > 0 ? q.width : std::max(1, r.width / 2);
+  r.height = q.height > 0 ? q.height : std::max(1, r.height / 2);
+  r.samplesPerPixel = q.samples > 0 ? q.samples : std::max(1, r.samplesPerPixel / 4);
+  r.maxDepth = q.maxDepth > 0 ? q.maxDepth : std::min(r.maxDepth, 6);
+  scene.surface.fluid.voxelSize *= q.voxelScale;
+  scene.surface.bodies.voxelSize *= q.voxelScale;
+}
 
 namespace {
 

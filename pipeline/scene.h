@@ -102,6 +102,18 @@ struct RenderParams {
   ParticleDisplayParams particles;
 };
 
+// What `--quality preview` changes (pipeline::applyQuality): a quick look at the whole animation
+// before the final render. 0 derives the value from the scene's final settings.
+struct PreviewQuality {
+  int width = 0;            // px; 0 = half the render width
+  int height = 0;           // px; 0 = half the render height
+  int samples = 0;          // 0 = a quarter of the render samples, at least 1
+  int maxDepth = 0;         // 0 = the render's max_depth, at most 6
+  float voxelScale = 2.0f;  // surface voxel sizes (fluid and bodies) times this
+};
+
+enum class Quality { Final, Preview };
+
 struct Scene {
   std::string name = "scene";
   std::string description;
@@ -109,7 +121,12 @@ struct Scene {
   OutputParams output;
   SurfaceParams surface;
   RenderParams render;
+  PreviewQuality previewQuality;
 };
+
+// Final leaves the scene as it is; Preview applies scene.previewQuality to the render settings and
+// the surface voxel sizes.
+void applyQuality(Scene& scene, Quality quality);
 
 // Loads and validates a scene. Throws SceneError (file + JSON path) on any problem: unreadable
 // file, JSON syntax, unknown keys, wrong types, missing required values, out-of-range values,

@@ -353,6 +353,17 @@ void describe(V& v, RenderParams& p) {
 }
 
 template <class V>
+void describe(V& v, PreviewQuality& p) {
+  v.value("width", p.width, {"px", "image width; 0 = half the render width", between(0, 16384)});
+  v.value("height", p.height, {"px", "image height; 0 = half the render height", between(0, 16384)});
+  v.value("samples", p.samples, {"", "paths per pixel; 0 = a quarter of render.samples, at least 1", between(0, 65536)});
+  v.value("max_depth", p.maxDepth, {"", "most scattering events on a path; 0 = render.max_depth, at most 6",
+                                    between(0, 1024)});
+  v.value("voxel_scale", p.voxelScale, {"", "surface voxel sizes (fluid and bodies) are multiplied by this",
+                                        between(1.0, 8.0)});
+}
+
+template <class V>
 void describe(V& v, Scene& s) {
   v.ignore("$schema");
   v.value("name", s.name, {"", "scene name, used in file names"});
@@ -369,6 +380,8 @@ void describe(V& v, Scene& s) {
   v.object("output", s.output, {"", "what to write: duration and frame rate", {}, true});
   v.object("surface", s.surface, {"", "metaball surfacing"});
   v.object("render", s.render, {"", "ray-traced frames"});
+  v.object("preview_quality", s.previewQuality,
+           {"", "what --quality preview changes: resolution, samples, path depth and surface voxel size"});
 }
 
 }  // namespace kurage::pipeline

@@ -1,6 +1,7 @@
 #include "pipeline/stages.h"
 
 #include "pipeline/files.h"
+#include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
 #include "pipeline/render_scene.h"
@@ -15,6 +16,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
@@ -57,6 +59,12 @@ public:
     if (scene_.sim.bodies.empty()) return;
     const sim::ParticleSet& p = simulation.particles();
     const size_t bodies = scene_.sim.bodies.size();
+    if (walls_.empty())  // the shells as built, at the first record (t = 0)
+      for (size_t b = 0; b < bodies; ++b)
+        walls_.push_back(scene_.sim.bodies[b].shape == sim::BodyShape::Shell
+                             ? std::optional<ShellWall>(std::in_place, scene_.sim.bodies[b], int(b + 1), p,
+                                                        scene_.sim.fluid.spacing)
+                             : std::nullopt);
     std::vector<Eigen::Vector3d> centre(bodies, Eigen::Vector3d::Zero());
     std::vector<double> count(bodies, 0.0), factor(bodies, 0.0);
     std::vector<float> fluidZ;
@@ -81,10 +89,36 @@ public:
     for (size_t b = 0; b < bodies; ++b) {
       row.centres.push_back(count[b] > 0 ? Eigen::Vector3d(centre[b] / count[b]) : Eigen::Vector3d::Zero());
       row.factors.push_back(count[b] > 0 ? factor[b] / count[b] : 1.0);
+      if (walls_[b]) {
+        row.margins.push_back(walls_[b]->marginRadius(p));
+        row.inWall.push_back(walls_[b]->fluidInsideWall(p));
+      }
     }
     for (const sim::BodyParams& b : scene_.sim.bodies)
       for (const sim::MuscleParams& m : b.muscles) row.forces.push_back(m.force.at(row.time));
     rows_.push_back(std::move(row));
+  }
+
+  // Per shell body, for run.json: the margin radius at rest (t = 0) and its smallest value, and
+  // the most fluid particles found inside the wall in a frame (ShellWall::fluidInsideWall).
+  nlohmann::json shellSummary(size_t body) const {
+    if (rows_.empty() || body >= walls_.size() || !walls_[body]) return nullptr;
+    size_t k = 0;
+    for (size_t b = 0; b < body; ++b) k += walls_[b].has_value();
+    double smallest = rows_.front().margins[k];
+    size_t most = 0;
+    double mostAt = 0.0;
+    for (const Row& r : rows_) {
+      smallest = std::min(smallest, r.margins[k]);
+      if (r.inWall[k] > most) {
+        most = r.inWall[k];
+        mostAt = r.time;
+      }
+    }
+    return {{"margin_radius_at_rest_m", rows_.front().margins[k]},
+            {"margin_radius_min_m", smallest},
+            {"fluid_inside_wall_max", most},
+            {"fluid_inside_wall_max_at_s", mostAt}};
   }
 
   void write(const fs::path& outDir) const {
@@ -95,6 +129,8 @@ public:
           << "_rest_density_factor";
     for (const sim::BodyParams& b : scene_.sim.bodies)
       for (const sim::MuscleParams& m : b.muscles) csv << "," << b.name << "_" << m.name << "_force_N";
+    for (const sim::BodyParams& b : scene_.sim.bodies)
+      if (b.shape == sim::BodyShape::Shell) csv << "," << b.name << "_margin_radius_m," << b.name << "_fluid_in_wall";
     csv << "\n";
     for (const Row& r : rows_) {
       csv << r.time << "," << r.surface;
@@ -102,6 +138,7 @@ public:
         csv << "," << r.centres[b].x() << "," << r.centres[b].y() << "," << r.centres[b].z() << ","
             << r.surface - r.centres[b].z() << "," << r.factors[b];
       for (double f : r.forces) csv << "," << f;
+      for (size_t k = 0; k < r.margins.size(); ++k) csv << "," << r.margins[k] << "," << r.inWall[k];
       csv << "\n";
     }
     writeTextAtomic(outDir / "bodies.csv", csv.str());
@@ -148,8 +185,11 @@ private:
     std::vector<Eigen::Vector3d> centres;
     std::vector<double> factors;
     std::vector<double> forces;
+    std::vector<double> margins;  // per shell body: margin radius (m)
+    std::vector<size_t> inWall;   // per shell body: fluid particles inside its wall
   };
   const Scene& scene_;
+  std::vector<std::optional<ShellWall>> walls_;  // per body; shells only
   std::vector<Row> rows_;
 };
 
@@ -256,10 +296,13 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   if (const sim::BodySystem* bodies = simulation.bodies()) {
     nlohmann::json list = nlohmann::json::array();
     for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
+    {
       list.push_back({{"name", scene.sim.bodies[b].name},
                       {"kind", b + 1},
                       {"particle_mass_kg", bodies->particleMass(b)},
                       {"rest_density_kg_per_m3", bodies->restDensity(b)}});
+      if (nlohmann::json shell = track.shellSummary(b); !shell.is_null()) list.back()["shell"] = std::move(shell);
+    }
     const sim::BodyStats& bs = bodies->stats();
     record.data()["stages"]["sim"]["bodies"] = {
         {"bodies", list},

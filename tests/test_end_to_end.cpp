@@ -26,6 +26,7 @@
 
 #include <cstring>
 #include <iostream>
+#include <set>
 
 using namespace kurage;
 namespace fs = std::filesystem;
@@ -49,6 +50,7 @@ TEST(EndToEnd, TinyDamBreakThroughAllStages) {
   for (const auto& entry : fs::recursive_directory_iterator(out))
     EXPECT_NE(entry.path().extension(), ".tmp") << "left behind: " << entry.path();
 
+  const std::string log = pipeline::readText(dir.path() / "log.txt");
   const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   for (const char* stage : {"sim", "surface", "render"}) EXPECT_GT(run["stages"][stage]["seconds"], 0.0) << stage;
   EXPECT_EQ(run["parameters"]["fluid"]["pressure_stiffness"], 1000.0);
@@ -56,8 +58,18 @@ TEST(EndToEnd, TinyDamBreakThroughAllStages) {
   EXPECT_FALSE(run["versions"]["openvdb"].get<std::string>().empty());
   EXPECT_FALSE(run["versions"]["embree"].get<std::string>().empty());
   EXPECT_GT(run["derived"]["fluid_particle_mass_kg"], 0.0);
+  // A fluid-only scene runs no body stage (issue 7: only the effects a scene calls for).
+  const auto ran = [](const nlohmann::json& record, const std::string& stage) {
+    for (const auto& s : record["stages"]["sim"]["stages_run"])
+      if (s == stage) return true;
+    return false;
+  };
+  for (const char* stage : {"neighbour_sort", "density", "integrate", "walls"}) EXPECT_TRUE(ran(run, stage)) << stage;
+  for (const char* stage : {"telescopic_density", "springs", "muscles", "pins", "collisions", "emitters", "sinks"})
+    EXPECT_FALSE(ran(run, stage)) << stage;
+  EXPECT_FALSE(run["stages"]["sim"].contains("bodies"));
+  EXPECT_TRUE(fs::exists(out / "tiny_dam_break.mp4") || log.find("ffmpeg is not on the PATH") != std::string::npos) << log;
 
-  const std::string log = pipeline::readText(dir.path() / "log.txt");
   EXPECT_NE(log.find("frames: " + (out / "frames").string()), std::string::npos) << log;
 
   test::expectMatchesReference(render::readPng(out / "frames/0004.png"), "tiny_dam_break_0004", kTolerance);
@@ -232,6 +244,31 @@ TEST(EndToEnd, QualityOptionsOverrideTheScene) {
   EXPECT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --spp 0", dir.path() / "log.txt"), 2);
 }
 
+TEST(EndToEnd, PreviewQualityHalvesTheFrameAndCoarsensTheSurface) {
+  // --quality preview: the scene's preview_quality (here the defaults: half the resolution, a
+  // quarter of the samples, twice the voxel size); --spp given too wins over it.
+  test::TempDir dir;
+  const fs::path scene = test::sourceDir() / "tests/scenes/tiny_dam_break.json";
+  const pipeline::Scene final = pipeline::loadScene(scene);
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --frames 0-0 --quality preview --no-video",
+                            dir.path() / "log.txt"), 0)
+      << pipeline::readText(dir.path() / "log.txt");
+  const render::Image image = render::readPng(out / "frames/0000.png");
+  EXPECT_EQ(image.width(), final.render.settings.width / 2);
+  EXPECT_EQ(image.height(), final.render.settings.height / 2);
+  EXPECT_FALSE(fs::exists(out / "tiny_dam_break.mp4")) << "--no-video";
+  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  EXPECT_EQ(run["quality"], "preview");
+  EXPECT_EQ(run["parameters"]["render"]["samples"], std::max(1, final.render.settings.samplesPerPixel / 4));
+  EXPECT_FLOAT_EQ(run["parameters"]["surface"]["fluid"]["voxel_size"].get<float>(), 2 * final.surface.fluid.voxelSize);
+  ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --frames 0-0 --quality preview --spp 3",
+                            dir.path() / "log.txt"), 0);
+  EXPECT_EQ(nlohmann::json::parse(pipeline::readText(out / "run.json"))["parameters"]["render"]["samples"], 3);
+  EXPECT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --quality draft", dir.path() / "log.txt"), 2);
+  EXPECT_NE(pipeline::readText(dir.path() / "log.txt").find("--quality"), std::string::npos);
+}
+
 TEST(EndToEnd, MembraneFrameMatchesReference) {
   // A body through every stage: fluid poured onto the pinned telescopic membrane
   // (tests/scenes/tiny_membrane.json), its own level set and translucent material.
@@ -243,5 +280,10 @@ TEST(EndToEnd, MembraneFrameMatchesReference) {
   EXPECT_TRUE(fs::exists(out / "bodies.csv"));
   const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   EXPECT_EQ(run["stages"]["sim"]["bodies"]["body_particles"], 432);
+  // The body stages the scene calls for ran (an emitter and pins, no muscle, no sink).
+  std::set<std::string> ran;
+  for (const auto& s : run["stages"]["sim"]["stages_run"]) ran.insert(s.get<std::string>());
+  for (const char* stage : {"telescopic_density", "springs", "pins", "collisions", "emitters"}) EXPECT_TRUE(ran.count(stage)) << stage;
+  for (const char* stage : {"muscles", "sinks"}) EXPECT_FALSE(ran.count(stage)) << stage;
   test::expectMatchesReference(render::readPng(out / "frames/0006.png"), "tiny_membrane_0006", kTolerance);
 }
