@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <vector>
 
 namespace kurage::pipeline {
 
@@ -132,7 +133,9 @@ int commandStill(std::vector<std::string> rawArgs) {
     view.spheres.push_back(particleSpheres(scene, frame));
     image = render::renderFrame(view, settings, &stats);
   } else {
-    image = renderSurfaces(scene, surfaceFrame(scene, frame), frameTime, &stats);
+    std::vector<render::CurveSet> curves;
+    if (hasChains(scene)) curves.push_back(chainTubes(scene, frame));  // chains are tubes, not surfaces
+    image = renderSurfaces(scene, surfaceFrame(scene, frame), frameTime, &stats, curves);
   }
   render::writePng(image, outFile, settings.transparentBackground, scene.render.bitDepth);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -61,6 +61,41 @@ render::RenderScene makeRenderScene(const Scene& scene, double time) {
   return out;
 }
 
+bool hasChains(const Scene& scene) {
+  return std::any_of(scene.sim.bodies.begin(), scene.sim.bodies.end(),
+                     [](const sim::BodyParams& b) { return b.shape == sim::BodyShape::Chain; });
+}
+
+render::CurveSet chainTubes(const Scene& scene, const ParticleFrame& frame) {
+  render::CurveSet set;
+  set.material = scene.render.chainMaterial;
+  // Body b's particles have kind b + 1. sim::BodySystem gives each body's particles consecutive
+  // ids in the order sim/body_shapes.cpp makes its points, and a chain's points go from its start
+  // (where it hangs) to its end, so ordering a chain's particles by id gives the chain order.
+  // (The cache comes sorted by id; a simulation's own particles are sorted by grid cell.)
+  std::vector<std::vector<std::pair<int64_t, size_t>>> byBody(scene.sim.bodies.size());
+  for (size_t i = 0; i < frame.size(); ++i) {
+    const int32_t kind = frame.kind[i];
+    if (kind >= 1 && size_t(kind) <= byBody.size() && scene.sim.bodies[size_t(kind - 1)].shape == sim::BodyShape::Chain)
+      byBody[size_t(kind - 1)].emplace_back(frame.id[i], i);
+  }
+  const ChainRadiusParams& radius = scene.render.chainRadius;
+  for (std::vector<std::pair<int64_t, size_t>>& chain : byBody) {
+    if (chain.size() < 2) continue;
+    std::sort(chain.begin(), chain.end());
+    render::Tube tube;
+    for (size_t k = 0; k < chain.size(); ++k) {
+      const size_t i = chain[k].second;
+      const Eigen::Vector3f p(frame.px[i], frame.py[i], frame.pz[i]);
+      if (!tube.points.empty() && p == tube.points.back()) continue;
+      tube.points.push_back(p);
+      tube.radii.push_back(radius.root + (radius.tip - radius.root) * float(k) / float(chain.size() - 1));
+    }
+    if (tube.points.size() >= 2) set.tubes.push_back(std::move(tube));
+  }
+  return set;
+}
+
 Eigen::Vector3f colourRamp(float t) {
   // Five stops close to matplotlib's viridis.
   static const std::array<Eigen::Vector3f, 5> stops{Eigen::Vector3f(0.267f, 0.005f, 0.329f),

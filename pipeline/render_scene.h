@@ -1,6 +1,6 @@
 // From a scene's "render" section to the renderer's own description (render/tracer.h): camera at
 // a time (keyframes), sun, area lights, environment (the image decoded here), ground, tank walls,
-// clip plane, and particles as coloured spheres for explanatory stills.
+// clip plane, chains as tubes, and particles as coloured spheres for explanatory stills.
 #pragma once
 
 #include "pipeline/particle_cache.h"
@@ -23,6 +23,16 @@ render::TriangleMesh tankMesh(const Scene& scene, const Eigen::Vector3f& eye);
 // The particles of a frame as spheres coloured by render.particles.color_by (kind, speed or
 // rest-density factor, the latter read as 1 where the cache has none).
 render::SphereSet particleSpheres(const Scene& scene, const ParticleFrame& frame);
+
+// Whether the scene has chain bodies (drawn as tubes from the particle caches).
+bool hasChains(const Scene& scene);
+
+// One tube per chain body with at least two particles (render::Tube: a uniform cubic B-spline
+// with the particles as control points, passing through the first and last), in chain order, the
+// radius tapering linearly with the particle index from render.chain_radius.root at the chain's
+// first particle to .tip at its last; material render.chain_material. A particle at the same
+// place as the one before it is left out (a zero-length segment has no direction).
+render::CurveSet chainTubes(const Scene& scene, const ParticleFrame& frame);
 
 // The colour ramp used for speed and rest-density factor: t in [0,1] from dark blue through
 // teal and green to yellow (clamped outside).

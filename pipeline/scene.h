@@ -72,6 +72,13 @@ struct TankParams {
   }();
 };
 
+// The tubes drawn along chain bodies (oral arms): radius linear in the particle index, from the
+// chain's first particle (where it hangs) to its last.
+struct ChainRadiusParams {
+  float root = 0.3f;  // metres
+  float tip = 0.08f;  // metres
+};
+
 struct RenderParams {
   render::RenderSettings settings;  // resolution, samples, depth, seed, alpha (flat in the JSON)
   int bitDepth = 8;                 // PNG bits per channel, 8 or 16
@@ -97,6 +104,15 @@ struct RenderParams {
     m.absorption = {0.05f, 0.4f, 0.2f};
     return m;
   }();
+  render::Material chainMaterial = [] {  // the body material, more orange
+    render::Material m;
+    m.type = render::MaterialType::Translucent;
+    m.albedo = {0.97f, 0.6f, 0.5f};
+    m.ior = 1.35f;
+    m.absorption = {0.05f, 0.35f, 0.4f};
+    return m;
+  }();
+  ChainRadiusParams chainRadius;
   TankParams tank;
   render::ClipPlane clip;
   ParticleDisplayParams particles;

@@ -324,6 +324,12 @@ void describe(V& v, render::Ground& p) {
 }
 
 template <class V>
+void describe(V& v, ChainRadiusParams& p) {
+  v.value("root", p.root, {"m", "tube radius at the chain's first particle, where it hangs", positive()});
+  v.value("tip", p.tip, {"m", "tube radius at its last particle; linear in between", positive()});
+}
+
+template <class V>
 void describe(V& v, RenderParams& p) {
   v.value("width", p.settings.width, {"px", "image width", between(1, 16384)});
   v.value("height", p.settings.height, {"px", "image height", between(1, 16384)});
@@ -347,6 +353,11 @@ void describe(V& v, RenderParams& p) {
   v.object("ground", p.ground, {"", "infinite diffuse checker ground plane"});
   v.object("fluid_material", p.fluidMaterial, {"", "material of the fluid surface (default: water)"});
   v.object("body_material", p.bodyMaterial, {"", "material of the bodies' surfaces (default: translucent pink)"});
+  v.object("chain_material", p.chainMaterial,
+           {"", "material of the tubes drawn along chain bodies (default: translucent orange-pink)"});
+  v.object("chain_radius", p.chainRadius,
+           {"", "chains are drawn as tubes along a cubic B-spline through their particles (not surfaced), "
+                "tapering linearly from root to tip"});
   v.object("tank", p.tank, {"", "the container's walls, drawn"});
   v.object("clip", p.clip, {"", "clip plane for cross-section views"});
   v.object("particles", p.particles, {"", "particles drawn as spheres, for figures that explain the method"});

@@ -364,7 +364,7 @@ void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord&
 }
 
 render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces, double time,
-                             render::RenderStats* stats) {
+                             render::RenderStats* stats, const std::vector<render::CurveSet>& curves) {
   std::vector<render::TriangleMesh> meshes;
   meshes.reserve(surfaces.size());
   render::RenderScene view = makeRenderScene(scene, time);
@@ -373,6 +373,7 @@ render::Image renderSurfaces(const Scene& scene, const std::map<std::string, ren
     meshes.push_back(render::meshLevelSet(levelSet));
     view.meshes.push_back({&meshes.back(), name == "fluid" ? scene.render.fluidMaterial : scene.render.bodyMaterial});
   }
+  view.curves = curves;
   return render::renderFrame(view, scene.render.settings, stats);
 }
 
@@ -382,14 +383,21 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
   const fs::path inFolder = options.outDir / "surfaces";
   const fs::path outFolder = options.outDir / "frames";
   for (int f = first; f <= last; ++f) requireFile(frameFile(inFolder, f, "vdb"), "surface");
+  // Chains are not surfaced: their tubes come from the particle caches.
+  const bool chains = hasChains(scene);
+  const fs::path particleFolder = options.outDir / "particles";
+  if (chains)
+    for (int f = first; f <= last; ++f) requireFile(frameFile(particleFolder, f, "vdb"), "sim");
   fs::create_directories(outFolder);
   Progress progress("render", last - first + 1, options.progress);
   uint64_t primaryRays = 0, totalRays = 0;
   double traceSeconds = 0.0;
   for (int f = first; f <= last; ++f) {
     render::RenderStats stats;
-    const render::Image image =
-        renderSurfaces(scene, render::readLevelSets(frameFile(inFolder, f, "vdb")), scene.output.frameTime(f), &stats);
+    std::vector<render::CurveSet> curves;
+    if (chains) curves.push_back(chainTubes(scene, readParticleFrame(frameFile(particleFolder, f, "vdb"))));
+    const render::Image image = renderSurfaces(scene, render::readLevelSets(frameFile(inFolder, f, "vdb")),
+                                               scene.output.frameTime(f), &stats, curves);
     primaryRays += stats.primaryRays;
     totalRays += stats.totalRays;
     traceSeconds += stats.seconds;

@@ -2,7 +2,7 @@
 // writes its own, one file per frame, atomically:
 //   sim      scene               -> OUT/particles/NNNN.vdb  (particle caches)
 //   surface  OUT/particles/*.vdb -> OUT/surfaces/NNNN.vdb   (metaball level sets per material)
-//   render   OUT/surfaces/*.vdb  -> OUT/frames/NNNN.png
+//   render   OUT/surfaces/*.vdb  -> OUT/frames/NNNN.png     (and OUT/particles/*.vdb for chains)
 // and OUT/run.json records the parameters in effect, library versions and stage timings.
 #pragma once
 
@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace kurage::pipeline {
 
@@ -55,8 +56,10 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
 // The level sets of one frame: "fluid" and one per body (chains excepted), named after it.
 std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame);
-// Renders the surfaces with the camera at simulated time `time` (camera keys).
+// Renders the surfaces, and the tubes `curves` (chainTubes() of the frame when the scene has
+// chains), with the camera at simulated time `time` (camera keys).
 render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces,
-                             double time = 0.0, render::RenderStats* stats = nullptr);
+                             double time = 0.0, render::RenderStats* stats = nullptr,
+                             const std::vector<render::CurveSet>& curves = {});
 
 }  // namespace kurage::pipeline

@@ -1,10 +1,14 @@
 // Embree 3 path tracer; see tracer.h.
 //
-// Per frame: one RTCDevice and RTCScene holding one triangle geometry per mesh and one
-// RTC_GEOMETRY_TYPE_SPHERE_POINT geometry per sphere set (buffers copied into Embree-allocated,
-// correctly padded storage). The ground and the area lights are intersected analytically here.
-// The clip plane is applied by re-tracing past clipped hits, so it needs no Embree filter
-// callbacks. Tiles of 16x16 pixels are rendered in parallel with TBB.
+// Per frame: one RTCDevice and RTCScene holding one triangle geometry per mesh, one
+// RTC_GEOMETRY_TYPE_SPHERE_POINT geometry per sphere set, and per curve set one
+// RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE geometry (the tubes) and one sphere geometry (their end
+// caps) (buffers copied into Embree-allocated, correctly padded storage). The ground and the area
+// lights are intersected analytically here. The clip plane is applied by re-tracing past clipped
+// hits. The half of each cap sphere that lies inside its tube is removed by an Embree filter
+// callback instead: that half meets the tube's wall tangentially at the tube's end, so stepping
+// past a rejected hit there could step past the wall too and let the ray out. Tiles of 16x16
+// pixels are rendered in parallel with TBB.
 #include "render/tracer.h"
 
 #include "render/sampling.h"
@@ -117,10 +121,128 @@ void addSpheres(RTCDevice device, RTCScene scene, const SphereSet& set, unsigned
   rtcReleaseGeometry(geometry);
 }
 
+// The control point k = -1 .. n of a tube of n >= 2 points (x, y, z, radius): the points
+// themselves and, at k = -1 and k = n, the end points mirrored through the ends (see Tube).
+Eigen::Vector4f tubeControlPoint(const Tube& tube, int k) {
+  const int n = static_cast<int>(tube.points.size());
+  const auto at = [&](int i) {
+    Eigen::Vector4f c;
+    c << tube.points[size_t(i)], tube.radii[size_t(i)];
+    return c;
+  };
+  if (k < 0) return 2.0f * at(0) - at(1);
+  if (k >= n) return 2.0f * at(n - 1) - at(n - 2);
+  return at(k);
+}
+
+// Uniform cubic B-spline segment with control points c0..c3 at u in [0, 1].
+Eigen::Vector4f bspline(const Eigen::Vector4f& c0, const Eigen::Vector4f& c1, const Eigen::Vector4f& c2,
+                        const Eigen::Vector4f& c3, float u) {
+  const float s = 1.0f - u;
+  return (s * s * s * c0 + (3.0f * u * u * u - 6.0f * u * u + 4.0f) * c1 +
+          (-3.0f * u * u * u + 3.0f * u * u + 3.0f * u + 1.0f) * c2 + u * u * u * c3) /
+         6.0f;
+}
+
+// The plane that cuts a tube off at one end: through the end point, normal along the tube (the
+// curve's tangent there, p1 - p0 with the mirrored end control point), pointing into the tube.
+struct CapPlane {
+  Vector3f point;
+  Vector3f inward;
+};
+
+// Embree filter of the cap spheres (intersect and occluded queries): rejects hits on the half of
+// a sphere inside its tube. The hit distance is the ray's tfar during the callback.
+void capFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* planes = static_cast<const std::vector<CapPlane>*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    const Vector3f p(RTCRayN_org_x(args->ray, args->N, i) + t * RTCRayN_dir_x(args->ray, args->N, i),
+                     RTCRayN_org_y(args->ray, args->N, i) + t * RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_org_z(args->ray, args->N, i) + t * RTCRayN_dir_z(args->ray, args->N, i));
+    const CapPlane& plane = (*planes)[RTCHitN_primID(args->hit, args->N, i)];
+    if ((p - plane.point).dot(plane.inward) > 0.0f) args->valid[i] = 0;
+  }
+}
+
+// One Embree round B-spline geometry holding every tube of the set with >= 2 points, and one
+// sphere geometry holding their end caps (two per tube: start, end), filtered by capFilter with
+// `planes` (filled here; must outlive the scene). `segments` and `caps` get, per primitive ID,
+// the tube and the segment index (curves) or the end, 0 or 1 (caps).
+void addCurves(RTCDevice device, RTCScene scene, const CurveSet& set, unsigned curveID, unsigned capID,
+               std::vector<std::pair<uint32_t, uint32_t>>& segments, std::vector<std::pair<uint32_t, uint32_t>>& caps,
+               std::vector<CapPlane>& planes) {
+  size_t vertexCount = 0;
+  for (uint32_t t = 0; t < set.tubes.size(); ++t) {
+    const Tube& tube = set.tubes[t];
+    if (tube.points.size() < 2) continue;
+    vertexCount += tube.points.size() + 2;
+    for (uint32_t i = 0; i + 1 < tube.points.size(); ++i) segments.emplace_back(t, i);
+    caps.emplace_back(t, 0u);
+    caps.emplace_back(t, 1u);
+  }
+  RTCGeometry curves = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+  auto* vertices = static_cast<float*>(
+      rtcSetNewGeometryBuffer(curves, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), vertexCount));
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(curves, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), segments.size()));
+  RTCGeometry spheres = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  auto* centres = static_cast<float*>(
+      rtcSetNewGeometryBuffer(spheres, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), caps.size()));
+  if (vertices && indices && centres) {
+    size_t v = 0, segment = 0, cap = 0;
+    for (const Tube& tube : set.tubes) {
+      const int n = static_cast<int>(tube.points.size());
+      if (n < 2) continue;
+      // Segment i uses control points i-1 .. i+2 (vertices first + i .. first + i + 3) and runs
+      // from point i to point i+1.
+      for (int i = 0; i + 1 < n; ++i) indices[segment++] = static_cast<unsigned>(v + size_t(i));
+      for (int k = -1; k <= n; ++k) {
+        const Eigen::Vector4f c = tubeControlPoint(tube, k);
+        for (int j = 0; j < 4; ++j) vertices[4 * v + size_t(j)] = c[j];
+        ++v;
+      }
+      for (const int end : {0, n - 1}) {
+        const Vector3f& tip = tube.points[size_t(end)];
+        for (int j = 0; j < 3; ++j) centres[4 * cap + size_t(j)] = tip[j];
+        centres[4 * cap + 3] = tube.radii[size_t(end)];
+        planes.push_back({tip, tube.points[size_t(end == 0 ? 1 : n - 2)] - tip});
+        ++cap;
+      }
+    }
+  }
+  rtcSetGeometryUserData(spheres, &planes);
+  rtcSetGeometryIntersectFilterFunction(spheres, capFilter);
+  rtcSetGeometryOccludedFilterFunction(spheres, capFilter);
+  for (const auto& [geometry, id] : {std::pair{curves, curveID}, std::pair{spheres, capID}}) {
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(scene, geometry, id);
+    rtcReleaseGeometry(geometry);
+  }
+}
+
+void checkCurves(const CurveSet& set, const std::string& name) {
+  for (size_t t = 0; t < set.tubes.size(); ++t) {
+    const Tube& tube = set.tubes[t];
+    const std::string what = name + " tube " + std::to_string(t);
+    if (tube.radii.size() != tube.points.size()) throw std::invalid_argument(what + ": needs one radius per point");
+    for (size_t i = 0; i < tube.points.size(); ++i) {
+      if (!(tube.radii[i] > 0.0f) || !std::isfinite(tube.radii[i]))
+        throw std::invalid_argument(what + ": radii must be > 0 and finite");
+      if (!tube.points[i].allFinite()) throw std::invalid_argument(what + ": points must be finite");
+    }
+  }
+}
+
 // What a geometry ID refers to.
 struct Geometry {
   const SceneObject* mesh = nullptr;
   const SphereSet* spheres = nullptr;
+  const CurveSet* curves = nullptr;  // with `caps` false: the tubes, true: their end caps
+  bool caps = false;
+  std::vector<std::pair<uint32_t, uint32_t>> primitives;  // curves: (tube, segment); caps: (tube, end 0/1)
+  std::unique_ptr<std::vector<CapPlane>> capPlanes;       // caps: capFilter's data, by primitive ID
 };
 
 // Everything a worker thread needs; read-only during rendering.
@@ -160,11 +282,17 @@ bool clipped(const Frame& f, const Vector3f& p) {
   return f.input->clip.enabled && (p - f.input->clip.point).dot(f.clipNormal) > 0.0f;
 }
 
-// Closest Embree hit along the ray in (tnear, tfar), skipping clipped hits. Returns false for
-// none; fills t, geomID, primID, u, v.
+// An Embree hit.
+struct EmbreeHit {
+  float t = kInfinity;
+  unsigned geomID = RTC_INVALID_GEOMETRY_ID, primID = 0;
+  float u = 0.0f, v = 0.0f;
+  Vector3f ng = Vector3f::Zero();  // Embree's geometric normal, not normalised
+};
+
+// Closest Embree hit along the ray in (tnear, tfar), skipping clipped hits. Returns false for none.
 bool intersectEmbree(const Frame& f, const Vector3f& origin, const Vector3f& direction, float tnear, float tfar,
-                     RTCIntersectContext& context, Counters& counters, float& t, unsigned& geomID,
-                     unsigned& primID, float& u, float& v) {
+                     RTCIntersectContext& context, Counters& counters, EmbreeHit& out) {
   for (int skip = 0; skip <= kMaxClipSkips; ++skip) {
     RTCRayHit rh{};
     rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
@@ -178,11 +306,12 @@ bool intersectEmbree(const Frame& f, const Vector3f& origin, const Vector3f& dir
     ++counters.total;
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     if (!clipped(f, origin + rh.ray.tfar * direction)) {
-      t = rh.ray.tfar;
-      geomID = rh.hit.geomID;
-      primID = rh.hit.primID;
-      u = rh.hit.u;
-      v = rh.hit.v;
+      out.t = rh.ray.tfar;
+      out.geomID = rh.hit.geomID;
+      out.primID = rh.hit.primID;
+      out.u = rh.hit.u;
+      out.v = rh.hit.v;
+      out.ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
       return true;
     }
     tnear = rh.ray.tfar + f.epsilon;
@@ -194,9 +323,8 @@ bool intersectEmbree(const Frame& f, const Vector3f& origin, const Vector3f& dir
 bool occluded(const Frame& f, const Vector3f& origin, const Vector3f& direction, float tfar,
               RTCIntersectContext& context, Counters& counters) {
   if (f.input->clip.enabled) {
-    float t, u, v;
-    unsigned g, p;
-    return intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, t, g, p, u, v);
+    EmbreeHit hit;
+    return intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, hit);
   }
   RTCRay ray{};
   ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
@@ -217,15 +345,38 @@ Vector3f groundAlbedo(const Frame& f, const Vector3f& point) {
   return std::fmod(std::abs(cells), 2.0) == 0.0 ? g.albedoA : g.albedoB;
 }
 
-// The surface hit at distance t along the ray on Embree geometry geomID / primID.
-Hit embreeHit(const Frame& f, const Vector3f& origin, const Vector3f& direction, float t, unsigned geomID,
-              unsigned primID, float u, float v) {
+// The surface hit `e` along the ray.
+Hit embreeHit(const Frame& f, const Vector3f& origin, const Vector3f& direction, const EmbreeHit& e) {
   Hit hit;
   hit.kind = Hit::Surface;
-  hit.t = t;
-  hit.point = origin + t * direction;
-  const Geometry& g = f.geometries[geomID];
-  if (g.mesh) {
+  hit.t = e.t;
+  hit.point = origin + e.t * direction;
+  const Geometry& g = f.geometries[e.geomID];
+  const unsigned primID = e.primID;
+  const float u = e.u, v = e.v;
+  if (g.curves) {
+    const auto [t, index] = g.primitives[primID];
+    const Tube& tube = g.curves->tubes[t];
+    Vector3f centre;  // of the circle (tube) or sphere (cap) the hit lies on
+    if (g.caps) {
+      centre = index == 0 ? tube.points.front() : tube.points.back();
+    } else {
+      const int i = static_cast<int>(index);
+      centre = bspline(tubeControlPoint(tube, i - 1), tubeControlPoint(tube, i), tubeControlPoint(tube, i + 1),
+                       tubeControlPoint(tube, i + 2), std::clamp(u, 0.0f, 1.0f))
+                   .head<3>();
+    }
+    // Embree's Ng of a round curve is the swept surface's normal (outward; the taper tilts it
+    // along the curve), of a sphere the radial direction; both are made to point away from the
+    // centre line, out of the tube, as the materials expect.
+    const Vector3f radial = hit.point - centre;
+    hit.ng = e.ng.normalized();
+    if (!hit.ng.allFinite()) hit.ng = radial.normalized();
+    else if (hit.ng.dot(radial) < 0.0f) hit.ng = -hit.ng;
+    hit.ns = hit.ng;
+    hit.material = &g.curves->material;
+    hit.albedo = checkerAlbedo(g.curves->material, g.curves->material.albedo, hit.point);
+  } else if (g.mesh) {
     const TriangleMesh& mesh = *g.mesh->mesh;
     const Eigen::Vector3i& tri = mesh.triangles[primID];
     const Vector3f& p0 = mesh.positions[tri[0]];
@@ -253,10 +404,9 @@ Hit embreeHit(const Frame& f, const Vector3f& origin, const Vector3f& direction,
 Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction, RTCIntersectContext& context,
               Counters& counters) {
   Hit hit;
-  float t, u, v;
-  unsigned geomID, primID;
-  if (intersectEmbree(f, origin, direction, 0.0f, kInfinity, context, counters, t, geomID, primID, u, v))
-    hit = embreeHit(f, origin, direction, t, geomID, primID, u, v);
+  EmbreeHit e;
+  if (intersectEmbree(f, origin, direction, 0.0f, kInfinity, context, counters, e))
+    hit = embreeHit(f, origin, direction, e);
   const Ground& ground = f.input->ground;
   if (ground.enabled) {
     const float denominator = direction.dot(f.groundNormal);
@@ -301,10 +451,10 @@ Vector3f transmittance(const Frame& f, Vector3f origin, const Vector3f& directio
     return occluded(f, origin, direction, tfar, context, counters) ? Vector3f::Zero() : Vector3f::Ones();
   Vector3f through = Vector3f::Ones();
   for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
-    float t, u, v;
-    unsigned geomID, primID;
-    if (!intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, t, geomID, primID, u, v)) return through;
-    const Hit hit = embreeHit(f, origin, direction, t, geomID, primID, u, v);
+    EmbreeHit e;
+    if (!intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, e)) return through;
+    const Hit hit = embreeHit(f, origin, direction, e);
+    const float t = e.t;
     const Material& m = *hit.material;
     if (m.type != MaterialType::Dielectric) return Vector3f::Zero();
     const float cosine = direction.dot(hit.ng);
@@ -456,7 +606,7 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
     checkMaterial(scene.meshes[i].material, name);
     if (scene.meshes[i].mesh->triangles.empty()) continue;  // nothing to hit
     addMesh(device.get(), embreeScene.get(), *scene.meshes[i].mesh, unsigned(frame.geometries.size()), name);
-    frame.geometries.push_back({&scene.meshes[i], nullptr});
+    frame.geometries.push_back({&scene.meshes[i], nullptr, nullptr, false, {}, nullptr});
     for (const Vector3f& p : scene.meshes[i].mesh->positions) scale = std::max(scale, p.cwiseAbs().maxCoeff());
   }
   for (size_t i = 0; i < scene.spheres.size(); ++i) {
@@ -464,8 +614,25 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
     checkMaterial(scene.spheres[i].material, name);
     if (scene.spheres[i].centres.empty()) continue;
     addSpheres(device.get(), embreeScene.get(), scene.spheres[i], unsigned(frame.geometries.size()), name);
-    frame.geometries.push_back({nullptr, &scene.spheres[i]});
+    frame.geometries.push_back({nullptr, &scene.spheres[i], nullptr, false, {}, nullptr});
     for (const Vector3f& p : scene.spheres[i].centres) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  }
+  for (size_t i = 0; i < scene.curves.size(); ++i) {
+    const CurveSet& set = scene.curves[i];
+    const std::string name = "curve set " + std::to_string(i);
+    checkMaterial(set.material, name);
+    checkCurves(set, name);
+    if (std::none_of(set.tubes.begin(), set.tubes.end(), [](const Tube& t) { return t.points.size() >= 2; }))
+      continue;  // nothing to hit
+    Geometry curves{nullptr, nullptr, &set, false, {}, nullptr};
+    Geometry caps{nullptr, nullptr, &set, true, {}, std::make_unique<std::vector<CapPlane>>()};
+    const auto curveID = unsigned(frame.geometries.size());
+    addCurves(device.get(), embreeScene.get(), set, curveID, curveID + 1, curves.primitives, caps.primitives,
+              *caps.capPlanes);
+    frame.geometries.push_back(std::move(curves));
+    frame.geometries.push_back(std::move(caps));
+    for (const Tube& tube : set.tubes)
+      for (const Vector3f& p : tube.points) scale = std::max(scale, p.cwiseAbs().maxCoeff());
   }
   rtcCommitScene(embreeScene.get());
   throwIfError(device.get(), errors, "scene build");

@@ -1,8 +1,9 @@
 // Headless Embree 3 path tracer.
 //
-// Renders triangle meshes (the level set surfaces) and sphere sets (particles shown as spheres)
-// with materials (materials.h) over an analytic infinite checker ground, lit by a sun, area
-// lights and the environment (lights.h), seen through a perspective camera (camera.h).
+// Renders triangle meshes (the level set surfaces), sphere sets (particles shown as spheres) and
+// tubes along curves (the jellyfish's oral arms) with materials (materials.h) over an analytic
+// infinite checker ground, lit by a sun, area lights and the environment (lights.h), seen through
+// a perspective camera (camera.h).
 //
 // The integrator is a unidirectional path tracer with next-event estimation for the sun and the
 // area lights at every non-specular vertex, Russian roulette once a path's throughput falls
@@ -16,8 +17,8 @@
 // order in which the 16x16 tiles are rendered.
 //
 // Units are metres in world space. The ground is the plane through `point` with normal `normal`
-// (analytic, truly infinite, receives shadows but casts none). A clip plane removes the meshes and
-// spheres (not the ground) on the side its normal points to, for cross-section views.
+// (analytic, truly infinite, receives shadows but casts none). A clip plane removes the meshes,
+// spheres and tubes (not the ground) on the side its normal points to, for cross-section views.
 #pragma once
 
 #include "render/camera.h"
@@ -63,10 +64,35 @@ struct SphereSet {
   Material material;
 };
 
+// Closed tubes of varying radius along uniform cubic B-splines, traced directly as Embree's
+// round B-spline curves (RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE: a circle of the interpolated
+// radius swept along the curve, perpendicular to it), never meshed.
+//
+// A tube's `points` are the B-spline's control points and `radii` its radius at each (metres,
+// > 0). A uniform cubic B-spline passes through none of its control points, so the tracer adds
+// one more at each end, mirrored through the end point (2 p0 - p1, and likewise the radius):
+// the curve then starts exactly at the first point with radius radii.front() and tangent p1 - p0,
+// and ends exactly at the last one; n >= 2 points give n - 1 curve segments (a single point
+// gives nothing). Embree's tube is open at its ends; the tracer closes each end with the half of
+// a sphere of the end radius that lies outside the tube, so the tube is a closed surface and
+// dielectric and translucent materials work inside it. The interpolated radius stays > 0 (all
+// radii > 0). Limits (Embree's): the radius must stay below the curve's radius of curvature, and
+// consecutive points must differ; otherwise the surface shows artefacts.
+struct Tube {
+  std::vector<Eigen::Vector3f> points;  // metres
+  std::vector<float> radii;             // metres, one per point
+};
+
+struct CurveSet {
+  std::vector<Tube> tubes;
+  Material material;
+};
+
 struct RenderScene {
   std::vector<SceneObject> meshes;
   std::vector<std::shared_ptr<const TriangleMesh>> ownedMeshes;  // keeps meshes built with the scene alive
   std::vector<SphereSet> spheres;
+  std::vector<CurveSet> curves;
   Camera camera;
   SunLight sun;
   std::vector<RectLight> rectLights;

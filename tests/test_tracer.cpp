@@ -1,7 +1,15 @@
 // Tracer tests with analytic answers: sky gradient, Lambert radiance under a sun, hard and soft
-// shadows, a rectangular light's irradiance, smooth normals, clip plane, alpha, camera keys, and
-// thread-count independence. The furnace and refraction checks are in test_render_validation.cpp.
+// shadows, a rectangular light's irradiance, smooth normals, clip plane, alpha, camera keys,
+// thread-count independence, and tubes along B-splines (width, taper, ends, shading, shadow,
+// clip plane, closedness, determinism), and the chains of a scene drawn as such tubes
+// (pipeline/render_scene.h chainTubes, the render stage). The furnace and refraction checks are
+// in test_render_validation.cpp.
 #include "render/tracer.h"
+
+#include "pipeline/files.h"
+#include "pipeline/render_scene.h"
+#include "pipeline/stages.h"
+#include "test_util.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -9,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -451,4 +460,375 @@ TEST(Tracer, TransmissiveShadowsPassWaterWithFresnelAndAbsorption) {
   EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), expected, 5e-4f);
   settings.transmissiveShadows = false;
   EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), 0.0f, 1e-6f);
+}
+
+namespace {
+
+// A tube along x through the given x positions (a straight B-spline), radius linear from r0 to r1.
+kr::CurveSet tubeAlongX(std::vector<float> xs, float r0, float r1, kr::Material material = {}) {
+  kr::Tube tube;
+  for (size_t i = 0; i < xs.size(); ++i) {
+    tube.points.emplace_back(xs[i], 0.0f, 0.0f);
+    tube.radii.push_back(r0 + (r1 - r0) * float(i) / float(xs.size() - 1));
+  }
+  return {{tube}, material};
+}
+
+// Height in pixels of the vertical extent, seen from the camera, of a circle of radius r in the
+// plane x = const at distance d from the camera (d along the view, which is +y): 2 tan(asin(r/d)),
+// in pixels.
+float projectedDiameter(const kr::Camera& camera, const kr::RenderSettings& s, float r, float d) {
+  const float tanHalf = std::tan(0.5f * camera.verticalFovDegrees * kPi / 180.0f);
+  return 2.0f * std::tan(std::asin(r / d)) / tanHalf * 0.5f * float(s.height);
+}
+
+float columnCoverage(const kr::Image& image, int x) {
+  float sum = 0.0f;
+  for (int y = 0; y < image.height(); ++y) sum += image.at(x, y)[3];
+  return sum;
+}
+
+float rowCoverage(const kr::Image& image, int y) {
+  float sum = 0.0f;
+  for (int x = 0; x < image.width(); ++x) sum += image.at(x, y)[3];
+  return sum;
+}
+
+// The alpha-only view of darkScene(): transparent background, coverage in alpha.
+kr::RenderSettings coverageSettings() {
+  kr::RenderSettings settings;
+  settings.width = 240;
+  settings.height = 201;  // odd: the middle row is centred on the tube's axis
+  settings.samplesPerPixel = 16;
+  settings.maxDepth = 1;
+  settings.transparentBackground = true;
+  return settings;
+}
+
+}  // namespace
+
+TEST(Tracer, StraightTubeIsTwiceItsRadiusWideAndEndsInHemispheres) {
+  // A tube of radius r = 0.25 through (-1, 0, 0), (0, 0, 0), (1, 0, 0), 5 m in front of the camera.
+  // Summed alpha down a column is the covered height in pixels: the circle's silhouette,
+  // 2 tan(asin(r / d)) with d the distance to the axis. Along the middle row the tube reaches
+  // from x = -1 to 1 (the mirrored end control points make the B-spline start and end there) and
+  // the hemispherical caps add r at each end: the row is covered between the tangents to the
+  // end spheres, at angles atan(1 / 5) + asin(r / sqrt(26)) either side. 16 stratified samples
+  // per pixel estimate each edge pixel's coverage to about 1/16: tolerance 1 pixel.
+  const float r = 0.25f;
+  kr::RenderScene scene = darkScene();
+  scene.curves.push_back(tubeAlongX({-1, 0, 1}, r, r));
+  const kr::RenderSettings settings = coverageSettings();
+  const kr::Image image = kr::renderFrame(scene, settings);
+  for (float x : {-0.5f, 0.0f, 0.7f}) {
+    const int column = project(scene.camera, settings, {x, 0, 0}).x();
+    EXPECT_NEAR(columnCoverage(image, column), projectedDiameter(scene.camera, settings, r, std::hypot(5.0f, x)), 1.0f)
+        << "x = " << x;
+  }
+  const float tanHalf = std::tan(0.5f * scene.camera.verticalFovDegrees * kPi / 180.0f);
+  const float edge = std::tan(std::atan(0.2f) + std::asin(r / std::sqrt(26.0f)));  // screen-plane x at distance 1
+  const float length = 2.0f * edge / tanHalf * 0.5f * float(settings.height);
+  EXPECT_NEAR(rowCoverage(image, settings.height / 2), length, 1.0f);
+  // On the axis's row, a pixel seen only through a cap (past the tube's end circle, whose nearest
+  // point projects to x = 1 / 4.75 = 0.21, before the cap's edge at 0.25) is covered; the
+  // pixel beyond it is not.
+  const int row = settings.height / 2;
+  EXPECT_EQ(image.at(project(scene.camera, settings, {1.15f, 0, 0}).x(), row)[3], 1.0f);
+  EXPECT_EQ(image.at(project(scene.camera, settings, {-1.15f, 0, 0}).x(), row)[3], 1.0f);
+  EXPECT_EQ(image.at(project(scene.camera, settings, {1.3f, 0, 0}).x(), row)[3], 0.0f);
+}
+
+TEST(Tracer, TaperedTubeFollowsItsRadii) {
+  // Radii 0.4, 0.25, 0.1 at x = -1.5, 0, 1.5: linear control values give the linear radius
+  // r(x) = 0.25 - 0.1 x, so the tube is 0.7 m thick at x = -1 and 0.3 m at x = 1 (tolerance as
+  // above; the cone's slope changes the silhouette by far less than a pixel here).
+  kr::RenderScene scene = darkScene();
+  scene.curves.push_back(tubeAlongX({-1.5f, 0, 1.5f}, 0.4f, 0.1f));
+  const kr::RenderSettings settings = coverageSettings();
+  const kr::Image image = kr::renderFrame(scene, settings);
+  float previous = std::numeric_limits<float>::infinity();
+  for (float x : {-1.0f, -0.5f, 0.0f, 0.5f, 1.0f}) {
+    const int column = project(scene.camera, settings, {x, 0, 0}).x();
+    const float height = columnCoverage(image, column);
+    EXPECT_NEAR(height, projectedDiameter(scene.camera, settings, 0.25f - 0.1f * x, std::hypot(5.0f, x)), 1.0f)
+        << "x = " << x;
+    EXPECT_LT(height, previous - 3.0f) << "narrower towards the thin end, x = " << x;
+    previous = height;
+  }
+}
+
+TEST(Tracer, TubeIsLambertShadedWithItsOutwardNormalAndCastsAShadow) {
+  // A white diffuse tube (radius 0.5 along x) lit by a point sun travelling along the view
+  // direction (+y) with E = pi: radiance = cos(n, -y) = sqrt(1 - (z/r)^2) at the point of height
+  // z where the camera ray meets the cylinder (computed exactly per pixel centre; a pixel spans
+  // 0.01 r, so the jittered samples change the value by < 0.005 at z = 0.6 r): the normal is the
+  // surface's, not the curve's tangent or a ray-facing ribbon's.
+  kr::RenderScene scene = darkScene();
+  kr::Material white;
+  white.albedo = {1, 1, 1};
+  const float r = 0.5f;
+  scene.curves.push_back(tubeAlongX({-2, 0, 2}, r, r, white));
+  scene.sun.direction = {0, 1, 0};
+  scene.sun.irradiance = {kPi, kPi, kPi};
+  scene.sun.angularDiameterDegrees = 0.0f;
+  scene.camera.verticalFovDegrees = 12.0f;
+  kr::RenderSettings settings;
+  settings.width = 64;
+  settings.height = 201;
+  settings.samplesPerPixel = 4;
+  settings.maxDepth = 1;
+  const kr::Image image = kr::renderFrame(scene, settings);
+  const float tanHalf = std::tan(0.5f * scene.camera.verticalFovDegrees * kPi / 180.0f);
+  int checked = 0;
+  for (int row = 0; row < settings.height; ++row) {
+    // The ray (0, -5, 0) + t (0, 1, dz) meets y^2 + z^2 = r^2 where (t - 5)^2 + (t dz)^2 = r^2.
+    const float dz = (1.0f - 2.0f * (row + 0.5f) / settings.height) * tanHalf;
+    const float a = 1.0f + dz * dz, b = -10.0f, c = 25.0f - r * r;
+    const float discriminant = b * b - 4.0f * a * c;
+    if (discriminant < 0.0f) continue;
+    const float t = (-b - std::sqrt(discriminant)) / (2.0f * a);
+    const float z = t * dz;
+    if (std::abs(z) > 0.9f * r) continue;  // the silhouette's last pixels are partly covered
+    EXPECT_NEAR(image.at(settings.width / 2, row).x(), std::sqrt(1.0f - z * z / (r * r)), 0.01f) << "row " << row;
+    ++checked;
+  }
+  EXPECT_GT(checked, 50);
+
+  // A sun travelling along (0, 1, -1) casts the tube's shadow on the ground z = -1 over the strip
+  // |y - 1| < r sqrt(2): black there (black sky, direct light only), E cos 45 / pi = 0.707 beside
+  // it (|y - 1| = 1.2). The camera on the +y side sees both points past the tube.
+  scene.ground.enabled = true;
+  scene.ground.point = {0, 0, -1};
+  scene.ground.checkerSize = 0.0f;
+  scene.ground.albedoA = {1, 1, 1};
+  scene.sun.direction = {0, 1, -1};
+  scene.camera.position = {0, 8, 6};
+  scene.camera.lookAt = {0, 1, -1};
+  scene.camera.verticalFovDegrees = 45.0f;
+  settings.width = 80;
+  settings.height = 80;
+  const kr::Image top = kr::renderFrame(scene, settings);
+  const Eigen::Vector2i shadow = project(scene.camera, settings, {1.0f, 1.0f, -1});
+  const Eigen::Vector2i lit = project(scene.camera, settings, {1.0f, 2.2f, -1});
+  EXPECT_LT(rgb(top, shadow.x(), shadow.y()).maxCoeff(), 1e-6f);
+  EXPECT_NEAR(rgb(top, lit.x(), lit.y()).x(), std::sqrt(0.5f), 1e-4f);
+}
+
+TEST(Tracer, ClipPlaneRemovesTubesAndTheirCaps) {
+  // The plane x = 0 with normal +x removes the right half of the tube, its cap included.
+  kr::RenderScene scene = darkScene();
+  scene.curves.push_back(tubeAlongX({-1, 0, 1}, 0.25f, 0.25f));
+  const kr::RenderSettings settings = coverageSettings();
+  const int row = settings.height / 2;
+  const auto alphaAt = [&](const kr::Image& image, float x) {
+    return image.at(project(scene.camera, settings, {x, 0, 0}).x(), row)[3];
+  };
+  const kr::Image whole = kr::renderFrame(scene, settings);
+  scene.clip = {true, {0, 0, 0}, {1, 0, 0}};
+  const kr::Image clipped = kr::renderFrame(scene, settings);
+  for (float x : {-1.15f, -0.5f, 0.5f, 1.15f}) EXPECT_EQ(alphaAt(whole, x), 1.0f) << x;
+  for (float x : {-1.15f, -0.5f}) EXPECT_EQ(alphaAt(clipped, x), 1.0f) << x;
+  for (float x : {0.5f, 1.15f}) EXPECT_EQ(alphaAt(clipped, x), 0.0f) << x;
+}
+
+TEST(Tracer, TranslucentTubeIsClosedFurnace) {
+  // Furnace: a translucent tube of tint rho and IOR 1 in a uniform environment of radiance 1.
+  // A straight tube of constant radius closed by its hemispherical caps is convex, so every
+  // camera path enters once (x rho), meets the inside once (x rho) and leaves: rho^2 exactly, at
+  // every fully covered pixel, caps included. An open end, a cap's inner half left in the way or
+  // a normal facing the wrong way changes some paths' weight (rho, rho^3, or ends the path).
+  kr::RenderScene scene = darkScene();
+  scene.environment.zenith = {1, 1, 1};
+  kr::Material tint;
+  tint.type = kr::MaterialType::Translucent;
+  tint.albedo = {0.8f, 0.6f, 0.4f};
+  tint.ior = 1.0f;
+  scene.curves.push_back(tubeAlongX({-1, -0.4f, 0.2f, 0.8f}, 0.4f, 0.4f, tint));
+  kr::RenderSettings settings = coverageSettings();
+  settings.maxDepth = 16;
+  const kr::Image image = kr::renderFrame(scene, settings);
+  const Vector3f expected = tint.albedo.cwiseProduct(tint.albedo);
+  int covered = 0, onCaps = 0;
+  const int leftCap = project(scene.camera, settings, {-1.0f, -0.4f, 0}).x();
+  const int rightCap = project(scene.camera, settings, {0.8f, -0.4f, 0}).x();
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      if (image.at(x, y)[3] < 1.0f) continue;
+      ASSERT_LT((rgb(image, x, y) - expected).cwiseAbs().maxCoeff(), 1e-4f) << "pixel " << x << "," << y;
+      ++covered;
+      onCaps += x < leftCap || x > rightCap;
+    }
+  EXPECT_GT(covered, 2000);
+  EXPECT_GT(onCaps, 200);
+}
+
+TEST(Tracer, AbsorbingDielectricTubeAcrossItsDiameterFollowsBeerLambert) {
+  // As Absorption.DielectricSphereThroughItsCentreFollowsBeerLambert (test_render_validation.cpp)
+  // for a tube of radius 1 seen across its axis: at normal incidence every reflection and
+  // refraction stays on the diameter, so L = F0 + (1-F0)^2 a / (1 - F0 a), a = exp(-2 sigma R);
+  // noise bound 0.01 as there. Entering and leaving are told by the outward normal: a normal
+  // facing into the tube would put the absorption outside it (L = 1).
+  kr::RenderScene scene = darkScene();
+  scene.environment.zenith = {1, 1, 1};
+  kr::Material glass;
+  glass.type = kr::MaterialType::Dielectric;
+  glass.ior = 1.5f;
+  glass.absorption = {0.5f, 0.1f, 0.0f};
+  scene.curves.push_back(tubeAlongX({-2, 0, 2}, 1.0f, 1.0f, glass));
+  scene.camera.verticalFovDegrees = 0.2f;
+  kr::RenderSettings settings;
+  settings.width = 1;
+  settings.height = 1;
+  settings.samplesPerPixel = 4096;
+  settings.maxDepth = 64;
+  const Vector3f v = kr::renderFrame(scene, settings).at(0, 0).head<3>();
+  const float f0 = (0.5f / 2.5f) * (0.5f / 2.5f);
+  for (int c = 0; c < 3; ++c) {
+    const float a = std::exp(-glass.absorption[c] * 2.0f);
+    EXPECT_NEAR(v[c], f0 + (1 - f0) * (1 - f0) * a / (1 - f0 * a), 0.01f) << "channel " << c;
+  }
+}
+
+TEST(Tracer, ImageWithTubesDoesNotDependOnThreadCount) {
+  kr::RenderScene scene;
+  kr::Material body;
+  body.type = kr::MaterialType::Translucent;
+  body.albedo = {0.95f, 0.6f, 0.5f};
+  body.absorption = {0.05f, 0.4f, 0.5f};
+  kr::Tube arm;
+  arm.points = {{0, 0, 2}, {0.2f, 0.1f, 1.5f}, {0.1f, 0.3f, 1.0f}, {0.3f, 0.2f, 0.5f}};
+  arm.radii = {0.2f, 0.15f, 0.1f, 0.05f};
+  scene.curves.push_back({{arm, kr::Tube{{{-1, 0, 1}, {-0.5f, 0, 1.2f}}, {0.1f, 0.1f}}}, body});
+  scene.camera.position = {1, -5, 2};
+  scene.camera.lookAt = {0, 0, 1};
+  kr::RenderSettings settings;
+  settings.width = 61;
+  settings.height = 47;
+  settings.samplesPerPixel = 3;
+  const auto render = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+    return kr::renderFrame(scene, settings);
+  };
+  const kr::Image one = render(1);
+  const kr::Image two = render(2);
+  scene.curves.clear();
+  const kr::Image without = render(2);
+  int differing = 0;
+  for (int y = 0; y < one.height(); ++y)
+    for (int x = 0; x < one.width(); ++x) {
+      ASSERT_EQ(one.at(x, y), two.at(x, y)) << "pixel " << x << "," << y;
+      differing += one.at(x, y) != without.at(x, y);
+    }
+  EXPECT_GT(differing, 50) << "the tubes were drawn";
+}
+
+TEST(Tracer, BadTubesAreRefused) {
+  kr::RenderScene scene = darkScene();
+  kr::RenderSettings settings;
+  settings.width = settings.height = 4;
+  scene.curves.push_back(tubeAlongX({-1, 1}, 0.1f, 0.1f));
+  EXPECT_NO_THROW(kr::renderFrame(scene, settings));
+  scene.curves[0].tubes[0].radii.pop_back();
+  EXPECT_THROW(kr::renderFrame(scene, settings), std::invalid_argument);
+  scene.curves[0].tubes[0].radii = {0.1f, 0.0f};
+  EXPECT_THROW(kr::renderFrame(scene, settings), std::invalid_argument);
+  scene.curves[0].tubes[0].radii = {0.1f, 0.1f};
+  scene.curves[0].tubes[0].points[1].x() = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_THROW(kr::renderFrame(scene, settings), std::invalid_argument);
+}
+
+namespace {
+
+namespace kp = kurage::pipeline;
+
+// A scene with a box body (kind 1) and a free chain hanging from (0, 0, 4) to (0, 0, 1) (kind 2,
+// 7 particles 0.5 m apart), seen from the front against the sky, rendering 48 x 64 with alpha.
+kp::Scene chainScene() {
+  const nlohmann::json document = nlohmann::json::parse(R"({
+    "name": "chain",
+    "container": {"min": [-3, -3, 0], "max": [3, 3, 6]},
+    "bodies": [
+      {"name": "block", "shape": "box", "min": [1.5, -0.5, 0], "max": [2.5, 0.5, 1]},
+      {"name": "arm", "shape": "chain", "start": [0, 0, 4], "end": [0, 0, 1], "spacing": 0.5,
+       "pins": [{"select": "rim"}]}
+    ],
+    "output": {"duration": 1, "fps": 1},
+    "render": {
+      "width": 48, "height": 64, "samples": 4, "transparent_background": true,
+      "camera": {"position": [0, -8, 2.5], "look_at": [0, 0, 2.5], "up": [0, 0, 1], "fov": 40},
+      "ground": {"enabled": false},
+      "chain_radius": {"root": 0.4, "tip": 0.1}
+    }
+  })");
+  return kp::parseScene(document, "chain.json");
+}
+
+}  // namespace
+
+TEST(ChainTubes, OneTubePerChainInIdOrderTaperingFromRootToTip) {
+  const kp::Scene scene = chainScene();
+  ASSERT_TRUE(kp::hasChains(scene));
+  // A hand-made frame: fluid and block particles around, the chain's 7 particles shuffled, their
+  // ids increasing from the top (z = 4) down.
+  kp::ParticleFrame frame;
+  const auto add = [&](float x, float y, float z, int64_t id, int32_t kind) {
+    frame.px.push_back(x), frame.py.push_back(y), frame.pz.push_back(z);
+    frame.vx.push_back(0), frame.vy.push_back(0), frame.vz.push_back(0);
+    frame.id.push_back(id), frame.kind.push_back(kind);
+  };
+  add(2, 0, 0.5f, 0, 1);
+  add(2, 0.2f, 0.5f, 1, 1);
+  for (int k : {3, 0, 6, 1, 5, 2, 4}) add(0.01f * float(k), 0, 4.0f - 0.5f * float(k), 10 + k, 2);
+  add(-1, 0, 1, 20, 0);
+  const kr::CurveSet set = kp::chainTubes(scene, frame);
+  ASSERT_EQ(set.tubes.size(), 1u);
+  const kr::Tube& tube = set.tubes[0];
+  ASSERT_EQ(tube.points.size(), 7u);
+  ASSERT_EQ(tube.radii.size(), 7u);
+  for (int k = 0; k < 7; ++k) {
+    EXPECT_EQ(tube.points[size_t(k)], Vector3f(0.01f * float(k), 0, 4.0f - 0.5f * float(k))) << k;
+    EXPECT_NEAR(tube.radii[size_t(k)], 0.4f - 0.05f * float(k), 1e-6f) << k;
+  }
+  EXPECT_EQ(set.material.albedo, scene.render.chainMaterial.albedo);
+  EXPECT_EQ(set.material.type, kr::MaterialType::Translucent);
+}
+
+TEST(ChainTubes, RenderStageDrawsChainsFromTheParticleCache) {
+  // sim, surface and render of frame 0 (the chain as built: vertical, x = 0, z from 4 down to 1):
+  // the render stage reads the particle cache and draws the tube, so the column of x = 0 is
+  // covered (alpha 1) between z = 1.5 and 3.5 and empty 0.8 m beside it, and the tube shows
+  // the chain material's orange-pink tint (red above blue) where the sky behind is blue. Without
+  // the particle cache the render stage refuses to run, naming `kurage sim`.
+  const kp::Scene scene = chainScene();
+  kurage::test::TempDir dir;
+  kp::StageOptions options;
+  options.outDir = dir.path();
+  options.lastFrame = 0;
+  kp::RunRecord record(dir.path(), scene, "chain.json");
+  kp::runSimStage(scene, options, record);
+  kp::runSurfaceStage(scene, options, record);
+  kp::runRenderStage(scene, options, record);
+  const kr::Image image = kr::readPng(kp::frameFile(dir.path() / "frames", 0, "png"));
+  kr::Camera camera;
+  camera.position = {0, -8, 2.5f};
+  camera.lookAt = {0, 0, 2.5f};
+  camera.up = {0, 0, 1};
+  camera.verticalFovDegrees = 40.0f;
+  kr::RenderSettings settings;
+  settings.width = image.width();
+  settings.height = image.height();
+  for (float z : {1.5f, 2.5f, 3.5f}) {
+    const Eigen::Vector2i on = project(camera, settings, {0, 0, z});
+    const Eigen::Vector2i beside = project(camera, settings, {0.8f, 0, z});
+    EXPECT_EQ(image.at(on.x(), on.y())[3], 1.0f) << "z = " << z;
+    EXPECT_EQ(image.at(beside.x(), beside.y())[3], 0.0f) << "z = " << z;
+    EXPECT_GT(image.at(on.x(), on.y()).x(), image.at(on.x(), on.y()).z() + 0.05f) << "z = " << z;
+  }
+  std::filesystem::remove(kp::frameFile(dir.path() / "particles", 0, "vdb"));
+  try {
+    kp::runRenderStage(scene, options, record);
+    FAIL() << "rendered a chain scene without its particle cache";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("kurage sim"), std::string::npos) << e.what();
+  }
 }
