@@ -169,6 +169,9 @@ void describe(V& v, sim::BodyParams& p) {
           {"", "rest density follows stretch, (8)-(10); false = the paper's conventional mass-spring model"});
   v.value("rim_width", p.rimWidth, {"spacings", "width of the 'rim' selection band", positive()});
   v.list("pins", p.pins, {"", "particles held fixed in space ('rim' or a region)"});
+  v.value("hold_until", p.holdUntil,
+          {"s", "the whole body is held where it was built, at rest, until this time: the fluid settles "
+                "around it first (0 = free from the start)", nonNegative()});
   v.list("muscles", p.muscles, {"", "named groups of springs driven by a force curve"});
 }
 
@@ -177,6 +180,10 @@ void describe(V& v, sim::CollisionParams& p) {
   v.value("max_passes", p.maxPasses,
           {"", "cap of the body collision loop per step (repeated until a pass finds no collision); run.json "
                "reports how often it was hit", between(1, 100000)});
+  v.value("fluid_contact", p.fluidContact,
+          {"body diameters", "fluid particles closer than this to a body particle are pushed out in the same loop "
+                             "(not in the paper; 0 = off): 1 keeps fluid out of a body's particle lattice",
+           between(0.0, 4.0)});
 }
 
 template <class V>

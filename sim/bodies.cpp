@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 #include <numeric>
 #include <sstream>
@@ -200,6 +201,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
     throw std::invalid_argument("bodies[" + std::to_string(problems[0].body) + "]" +
                                 (problems[0].field.empty() ? "" : "." + problems[0].field) + ": " + problems[0].message);
   const float l = params.fluid.spacing, h = params.fluid.supportRadiusMetres();
+  fluidContact_ = params.collisions.fluidContact;
   bodyOf_.reserve(built.count);
   for (size_t b = 0; b < params.bodies.size(); ++b) {
     const BodyParams& body = params.bodies[b];
@@ -217,8 +219,8 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
       diameter_.push_back(body.spacingMetres(l));
       bool pin = false;
       for (const Selection& s : body.pins) pin = pin || selected(s, pts, k);
-      pinned_.push_back(pin);
-      if (pin) {
+      pinnedUntil_.push_back(pin ? std::numeric_limits<float>::infinity() : std::max(0.0f, body.holdUntil));
+      if (pinnedUntil_.back() > 0.0f) {
         pinnedIds_.push_back(int64_t(bodyOf_.size() - 1));
         pinnedAt_.push_back(q);
       }
@@ -247,7 +249,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
 
 size_t BodySystem::memoryBytes() const {
   return springs_.memoryBytes() + indexOfId_.capacity() * 4 + bodyOf_.capacity() * 4 + diameter_.capacity() * 4 +
-         lengthRatio_.capacity() * 4 + pinned_.capacity() + cellOrder_.capacity() * sizeof(cellOrder_[0]);
+         lengthRatio_.capacity() * 4 + pinnedUntil_.capacity() * 4 + cellOrder_.capacity() * sizeof(cellOrder_[0]);
 }
 
 void BodySystem::index(const ParticleSet& p) {
@@ -282,8 +284,9 @@ void BodySystem::addMuscleForces(ParticleSet& p, double t) {
   if (any) addMuscleAccelerations(springs_, muscleForces_.data(), p, indexOfId_);
 }
 
-void BodySystem::applyPins(ParticleSet& p) const {
+void BodySystem::applyPins(ParticleSet& p, double t) const {
   for (size_t k = 0; k < pinnedIds_.size(); ++k) {
+    if (!(t < pinnedUntil_[size_t(pinnedIds_[k])])) continue;
     const size_t i = indexOfId_[size_t(pinnedIds_[k])];
     p.x[i] = pinnedAt_[k].x(); p.y[i] = pinnedAt_[k].y(); p.z[i] = pinnedAt_[k].z();
     p.vx[i] = p.vy[i] = p.vz[i] = 0.0f;
@@ -305,10 +308,11 @@ uint64_t cellKey(int64_t cx, int64_t cy, int64_t cz) {
 // that distance (mass-weighted; pinned particles do not move) and its approaching normal velocity
 // removed (a fully inelastic penalty impulse). Candidates come from the particle's own and the 26
 // adjacent cells of a grid whose cell is the largest diameter. Returns the pairs resolved.
-int BodySystem::collisionPass(ParticleSet& p) {
+int BodySystem::collisionPass(ParticleSet& p, double t) {
   const size_t count = indexOfId_.size();
   float cell = 0.0f;
   for (size_t id = 0; id < count; ++id) cell = std::max(cell, diameter_[id] / lengthRatio_[id]);
+  cell *= std::max(1.0f, fluidContact_);
   if (!(cell > 0.0f)) return 0;
   auto cellOf = [&](size_t i, int axis) {
     const float v = axis == 0 ? p.x[i] : axis == 1 ? p.y[i] : p.z[i];
@@ -338,10 +342,62 @@ int BodySystem::collisionPass(ParticleSet& p) {
             Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
             const float r = d.norm();
             if (r >= contact * (1.0f - 1e-4f) || springs_.connected(a, b)) continue;
-            const float wi = pinned_[a] ? 0.0f : 1.0f / p.mass[i];
-            const float wj = pinned_[b] ? 0.0f : 1.0f / p.mass[j];
+            const float wi = t < pinnedUntil_[a] ? 0.0f : 1.0f / p.mass[i];
+            const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
             if (wi + wj <= 0.0f) continue;
             const Eigen::Vector3f normal = r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitX();  // i above j in id
+            const float push = (contact - r) / (wi + wj);
+            p.x[i] += push * wi * normal.x(); p.y[i] += push * wi * normal.y(); p.z[i] += push * wi * normal.z();
+            p.x[j] -= push * wj * normal.x(); p.y[j] -= push * wj * normal.y(); p.z[j] -= push * wj * normal.z();
+            const float approach = (p.vx[i] - p.vx[j]) * normal.x() + (p.vy[i] - p.vy[j]) * normal.y() +
+                                   (p.vz[i] - p.vz[j]) * normal.z();
+            if (approach < 0.0f) {
+              const float impulse = -approach / (wi + wj);
+              p.vx[i] += impulse * wi * normal.x(); p.vy[i] += impulse * wi * normal.y(); p.vz[i] += impulse * wi * normal.z();
+              p.vx[j] -= impulse * wj * normal.x(); p.vy[j] -= impulse * wj * normal.y(); p.vz[j] -= impulse * wj * normal.z();
+            }
+            ++resolved;
+          }
+        }
+  }
+  if (fluidContact_ > 0.0f) resolved += fluidPass(p, t, cell);
+  return resolved;
+}
+
+// Fluid against bodies, with the grid of the body pass (cellOrder_ sorted): every fluid particle
+// closer than fluidContact d_j / L_j to body particle j is pushed out to that distance and its
+// approach removed, mass-weighted as between body particles.
+int BodySystem::fluidPass(ParticleSet& p, double t, float cell) {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+  for (const auto& [key, id] : cellOrder_) {
+    const size_t j = indexOfId_[id];
+    lo = lo.cwiseMin(Eigen::Vector3f(p.x[j], p.y[j], p.z[j]));
+    hi = hi.cwiseMax(Eigen::Vector3f(p.x[j], p.y[j], p.z[j]));
+  }
+  lo.array() -= cell;
+  hi.array() += cell;
+  int resolved = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] != 0 || p.x[i] < lo.x() || p.y[i] < lo.y() || p.z[i] < lo.z() || p.x[i] > hi.x() ||
+        p.y[i] > hi.y() || p.z[i] > hi.z())
+      continue;
+    const int64_t cx = int64_t(std::floor(p.x[i] / cell)), cy = int64_t(std::floor(p.y[i] / cell)),
+                  cz = int64_t(std::floor(p.z[i] / cell));
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const uint64_t key = cellKey(cx + dx, cy + dy, cz + dz);
+          auto it = std::lower_bound(cellOrder_.begin(), cellOrder_.end(), std::make_pair(key, uint32_t(0)));
+          for (; it != cellOrder_.end() && it->first == key; ++it) {
+            const uint32_t b = it->second;
+            const size_t j = indexOfId_[b];
+            const float contact = fluidContact_ * diameter_[b] / lengthRatio_[b];
+            Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
+            const float r = d.norm();
+            if (r >= contact * (1.0f - 1e-4f)) continue;
+            const float wi = 1.0f / p.mass[i];
+            const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
+            const Eigen::Vector3f normal = r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitZ();
             const float push = (contact - r) / (wi + wj);
             p.x[i] += push * wi * normal.x(); p.y[i] += push * wi * normal.y(); p.z[i] += push * wi * normal.z();
             p.x[j] -= push * wj * normal.x(); p.y[j] -= push * wj * normal.y(); p.z[j] -= push * wj * normal.z();
@@ -359,11 +415,11 @@ int BodySystem::collisionPass(ParticleSet& p) {
   return resolved;
 }
 
-void BodySystem::collide(ParticleSet& p, int maxPasses) {
+void BodySystem::collide(ParticleSet& p, int maxPasses, double t) {
   int passes = 0;
   int found = 0;
   do {
-    found = collisionPass(p);
+    found = collisionPass(p, t);
     ++passes;
     stats_.collisionsResolved += uint64_t(found);
   } while (found > 0 && passes < maxPasses);

@@ -43,7 +43,7 @@ public:
   // that checkBodies() refuses.
   BodySystem(const SimParams& params, ParticleSet& particles, int64_t& nextId);
 
-  size_t particleCount() const { return pinned_.size(); }
+  size_t particleCount() const { return pinnedUntil_.size(); }
   size_t springCount() const { return springs_.springCount(); }
   float particleMass(size_t body) const { return mass_[body]; }
   float restDensity(size_t body) const { return restDensity_[body]; }
@@ -52,6 +52,7 @@ public:
   float springStep() const { return springStep_; }
   bool hasTelescopicDensity() const { return telescopic_; }
   bool hasMuscles() const { return !muscles_.empty(); }
+  // Pinned particles or bodies held until a time (hold_until).
   bool hasPins() const { return !pinnedIds_.empty(); }
   const BodyStats& stats() const { return stats_; }
   size_t memoryBytes() const;
@@ -64,16 +65,18 @@ public:
   void addSpringForces(ParticleSet& particles, float dt);
   // Muscle forces at time t.
   void addMuscleForces(ParticleSet& particles, double t);
-  // Holds pinned particles at their initial positions, at rest.
-  void applyPins(ParticleSet& particles) const;
-  // (14) The collision loop between body particles not joined by a spring (SPEC §3.4).
-  void collide(ParticleSet& particles, int maxPasses);
+  // Holds pinned particles at their initial positions, at rest; a held body's particles while
+  // t < hold_until.
+  void applyPins(ParticleSet& particles, double t) const;
+  // (14) The collision loop between body particles not joined by a spring (SPEC §3.4); particles
+  // pinned at time t do not move.
+  void collide(ParticleSet& particles, int maxPasses, double t);
 
 private:
   struct Muscle {
     ForceCurve force;
   };
-  int collisionPass(ParticleSet& particles);
+  int collisionPass(ParticleSet& particles, double t);
 
   std::vector<float> mass_, restDensity_;  // per body
   std::vector<uint8_t> telescopicBody_;    // per body
@@ -84,13 +87,15 @@ private:
   std::vector<int32_t> bodyOf_;            // per id
   std::vector<float> diameter_;            // per id: d0 of its body
   std::vector<float> lengthRatio_;         // per id: L^leng (1 without telescopic density)
-  std::vector<uint8_t> pinned_;            // per id
+  std::vector<float> pinnedUntil_;         // per id: 0 free, +inf pinned, else held until then
   std::vector<int64_t> pinnedIds_;
   std::vector<Eigen::Vector3f> pinnedAt_;
   std::vector<uint32_t> indexOfId_;
   std::vector<Eigen::Vector3f> predicted_;  // scratch of the implicit dampers
   std::vector<std::pair<uint64_t, uint32_t>> cellOrder_;  // collision grid scratch: (cell key, id)
+  int fluidPass(ParticleSet& particles, double t, float cell);
   bool telescopic_ = false;
+  float fluidContact_ = 0.0f;  // CollisionParams::fluidContact
   float springStep_ = 0.0f;
   BodyStats stats_;
 };

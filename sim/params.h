@@ -181,6 +181,7 @@ struct BodyParams {
   bool telescopicDensity = true;    // (8)-(10); false = the paper's "conventional mass-spring model"
   float rimWidth = 1.0f;            // rim band width in body spacings
   std::vector<Selection> pins;      // particles held fixed in space
+  float holdUntil = 0.0f;           // s: the whole body is held where it was built until then
   std::vector<MuscleParams> muscles;
 
   float spacingMetres(float fluidSpacing) const { return spacing * fluidSpacing; }
@@ -190,6 +191,10 @@ struct BodyParams {
 // Collisions between body particles not joined by a spring (SPEC §3.4).
 struct CollisionParams {
   int maxPasses = 32;  // cap of the collision loop
+  // Fluid particles closer than this many (current) body diameters to a body particle are pushed
+  // out in the same loop (ours, not the paper's: 0 = off). 1 keeps fluid out of the gaps of a
+  // body's particle lattice, which a smooth SPH pressure alone does not (docs/PHYSICS.md).
+  float fluidContact = 0.0f;
 };
 
 struct SimParams {

@@ -189,11 +189,11 @@ void Simulation::integrate(float dt, double newTime) {
   }
   if (bodies_ && bodies_->hasPins()) {
     StageTimer timer(stats_, Stage::Pins);
-    bodies_->applyPins(particles_);
+    bodies_->applyPins(particles_, newTime);
   }
   if (bodies_) {
     StageTimer timer(stats_, Stage::Collisions);
-    bodies_->collide(particles_, params_.collisions.maxPasses);  // (14)
+    bodies_->collide(particles_, params_.collisions.maxPasses, newTime);  // (14)
   }
   {
     StageTimer timer(stats_, Stage::Walls);
