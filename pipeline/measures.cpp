@@ -186,18 +186,37 @@ Eigen::Vector3d ShellWall::centre(const sim::ParticleSet& p) const {
 }
 
 double ShellWall::marginRadius(const sim::ParticleSet& p) const {
-  const Eigen::Vector3d c = centre(p);
+  // The margin's own centroid, so that a tilted bell keeps its margin radius.
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> ring;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] != kind_) continue;
+    const int k = indexOf(p.id[i]);
+    if (k < 0 || !margin_[size_t(k)]) continue;
+    ring.emplace_back(p.x[i], p.y[i], p.z[i]);
+    c += ring.back();
+  }
+  if (ring.empty()) return 0.0;
+  c /= double(ring.size());
   double sum = 0.0;
+  for (const Eigen::Vector3d& x : ring) sum += (x - c).norm();
+  return sum / double(ring.size());
+}
+
+double ShellWall::tiltDegrees(const sim::ParticleSet& p) const {
+  Eigen::Vector3d margin = Eigen::Vector3d::Zero();
   size_t n = 0;
   for (size_t i = 0; i < p.size(); ++i) {
     if (p.kind[i] != kind_) continue;
     const int k = indexOf(p.id[i]);
     if (k < 0 || !margin_[size_t(k)]) continue;
-    const Eigen::Vector3d d = Eigen::Vector3d(p.x[i], p.y[i], p.z[i]) - c;
-    sum += (d - d.dot(axis_) * axis_).norm();
+    margin += Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
     ++n;
   }
-  return n > 0 ? sum / double(n) : 0.0;
+  if (n == 0) return 0.0;
+  const Eigen::Vector3d up = centre(p) - margin / double(n);
+  if (!(up.norm() > 0.0)) return 0.0;
+  return std::acos(std::clamp(up.normalized().dot(axis_), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
 size_t ShellWall::fluidInsideWall(const sim::ParticleSet& p) const {

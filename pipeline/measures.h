@@ -114,14 +114,17 @@ public:
   // `initial`: the particles at t = 0; `kind` = the shell's body index + 1.
   ShellWall(const sim::BodyParams& shell, int kind, const sim::ParticleSet& initial, float fluidSpacing);
   int kind() const { return kind_; }
-  // Mean distance of the margin particles from the bell's axis (the shell's axis through the
-  // centroid of all its particles), m.
+  // Mean distance of the margin particles from their centroid (the ring's radius, whatever the
+  // bell's tilt), m.
   double marginRadius(const sim::ParticleSet& particles) const;
   // Fluid particles inside the wall: those with a particle of the innermost layer and one of the
   // outermost layer within one body spacing, on opposite sides of it (the two offsets make an
   // obtuse angle). The layers are one body spacing apart, so a fluid particle squeezed between
   // them is found; one outside the wall, even at the margin where both layers end, is not.
   size_t fluidInsideWall(const sim::ParticleSet& particles) const;
+  // Angle between the shell's axis as built and the direction from the margin's centroid to the
+  // bell's centre of mass, degrees: 0 upright as built, 180 upside down.
+  double tiltDegrees(const sim::ParticleSet& particles) const;
   // Centre of mass of the bell (equal masses), m.
   Eigen::Vector3d centre(const sim::ParticleSet& particles) const;
 

@@ -91,6 +91,7 @@ public:
       row.factors.push_back(count[b] > 0 ? factor[b] / count[b] : 1.0);
       if (walls_[b]) {
         row.margins.push_back(walls_[b]->marginRadius(p));
+        row.tilts.push_back(walls_[b]->tiltDegrees(p));
         row.inWall.push_back(walls_[b]->fluidInsideWall(p));
       }
     }
@@ -130,7 +131,7 @@ public:
     for (const sim::BodyParams& b : scene_.sim.bodies)
       for (const sim::MuscleParams& m : b.muscles) csv << "," << b.name << "_" << m.name << "_force_N";
     for (const sim::BodyParams& b : scene_.sim.bodies)
-      if (b.shape == sim::BodyShape::Shell) csv << "," << b.name << "_margin_radius_m," << b.name << "_fluid_in_wall";
+      if (b.shape == sim::BodyShape::Shell) csv << "," << b.name << "_margin_radius_m," << b.name << "_fluid_in_wall," << b.name << "_tilt_deg";
     csv << "\n";
     for (const Row& r : rows_) {
       csv << r.time << "," << r.surface;
@@ -138,7 +139,7 @@ public:
         csv << "," << r.centres[b].x() << "," << r.centres[b].y() << "," << r.centres[b].z() << ","
             << r.surface - r.centres[b].z() << "," << r.factors[b];
       for (double f : r.forces) csv << "," << f;
-      for (size_t k = 0; k < r.margins.size(); ++k) csv << "," << r.margins[k] << "," << r.inWall[k];
+      for (size_t k = 0; k < r.margins.size(); ++k) csv << "," << r.margins[k] << "," << r.inWall[k] << "," << r.tilts[k];
       csv << "\n";
     }
     writeTextAtomic(outDir / "bodies.csv", csv.str());
@@ -187,6 +188,7 @@ private:
     std::vector<double> forces;
     std::vector<double> margins;  // per shell body: margin radius (m)
     std::vector<size_t> inWall;   // per shell body: fluid particles inside its wall
+    std::vector<double> tilts;    // per shell body: tilt from its axis as built (degrees)
   };
   const Scene& scene_;
   std::vector<std::optional<ShellWall>> walls_;  // per body; shells only
