@@ -2,7 +2,8 @@
 // committed reference (tests/references/tiny_dam_break_0004.png, made by
 // tests/scenes/tiny_dam_break.json); `kurage still` against its own references (a surface still,
 // and a cross-section with particles as spheres, tests/references/tiny_still_*.png); a membrane
-// frame (tests/references/tiny_membrane_0006.png from tests/scenes/tiny_membrane.json).
+// frame (tests/references/tiny_membrane_0006.png from tests/scenes/tiny_membrane.json); a jellyfish
+// frame (tests/references/tiny_jellyfish_0006.png from tests/scenes/tiny_jellyfish.json).
 //
 // Tolerance (overriding Blender's 0.016 / 1 %, whose references are converged renders): a pixel
 // fails when a channel differs by more than 0.05 in sRGB-encoded value (13 of 255 levels); the
@@ -19,6 +20,7 @@
 #include "pipeline/scene.h"
 #include "image_test.h"
 #include "render/image.h"
+#include "render/surfacing.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -286,4 +288,22 @@ TEST(EndToEnd, MembraneFrameMatchesReference) {
   for (const char* stage : {"telescopic_density", "springs", "pins", "collisions", "emitters"}) EXPECT_TRUE(ran.count(stage)) << stage;
   for (const char* stage : {"muscles", "sinks"}) EXPECT_FALSE(ran.count(stage)) << stage;
   test::expectMatchesReference(render::readPng(out / "frames/0006.png"), "tiny_membrane_0006", kTolerance);
+}
+
+TEST(EndToEnd, JellyfishFrameMatchesReference) {
+  // The jellyfish through every stage (tests/scenes/tiny_jellyfish.json: a small bell, two arms
+  // and a faucet for 1 s): grids "bell" and "fluid", the arms as tubes, the video.
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const fs::path scene = test::sourceDir() / "tests/scenes/tiny_jellyfish.json";
+  ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string(), dir.path() / "log.txt"), 0)
+      << pipeline::readText(dir.path() / "log.txt");
+  const auto grids = render::readLevelSets(pipeline::frameFile(out / "surfaces", 6, "vdb"));
+  EXPECT_EQ(grids.size(), 2u);
+  EXPECT_TRUE(grids.count("bell") && grids.count("fluid"));
+  const std::string log = pipeline::readText(dir.path() / "log.txt");
+  EXPECT_TRUE(fs::exists(out / "tiny_jellyfish.mp4") || log.find("ffmpeg is not on the PATH") != std::string::npos) << log;
+  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  EXPECT_EQ(run["stages"]["sim"]["bodies"]["bodies"][0]["shell"]["fluid_inside_wall_max"], 0);
+  test::expectMatchesReference(render::readPng(out / "frames/0006.png"), "tiny_jellyfish_0006", kTolerance);
 }
