@@ -301,6 +301,24 @@ uint64_t cellKey(int64_t cx, int64_t cy, int64_t cz) {
   return (uint64_t(cx + kCellBias) & mask) << (2 * kCellBits) | (uint64_t(cy + kCellBias) & mask) << kCellBits |
          (uint64_t(cz + kCellBias) & mask);
 }
+
+// Pushes particles i and j apart along `normal` (from j to i) from distance r to `contact`,
+// weighted by their inverse masses wi, wj (0 = does not move), and removes their approaching
+// normal velocity: a fully inelastic penalty impulse.
+void separate(ParticleSet& p, size_t i, size_t j, float wi, float wj, float contact, const Eigen::Vector3f& normal,
+              float r) {
+  const float push = (contact - r) / (wi + wj);
+  p.x[i] += push * wi * normal.x(); p.y[i] += push * wi * normal.y(); p.z[i] += push * wi * normal.z();
+  p.x[j] -= push * wj * normal.x(); p.y[j] -= push * wj * normal.y(); p.z[j] -= push * wj * normal.z();
+  const float approach =
+      (p.vx[i] - p.vx[j]) * normal.x() + (p.vy[i] - p.vy[j]) * normal.y() + (p.vz[i] - p.vz[j]) * normal.z();
+  if (approach < 0.0f) {
+    const float impulse = -approach / (wi + wj);
+    p.vx[i] += impulse * wi * normal.x(); p.vy[i] += impulse * wi * normal.y(); p.vz[i] += impulse * wi * normal.z();
+    p.vx[j] -= impulse * wj * normal.x(); p.vy[j] -= impulse * wj * normal.y(); p.vz[j] -= impulse * wj * normal.z();
+  }
+}
+
 }  // namespace
 
 // One Gauss-Seidel pass over all body particles: every pair closer than its collision diameter
@@ -345,17 +363,7 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
             const float wi = t < pinnedUntil_[a] ? 0.0f : 1.0f / p.mass[i];
             const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
             if (wi + wj <= 0.0f) continue;
-            const Eigen::Vector3f normal = r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitX();  // i above j in id
-            const float push = (contact - r) / (wi + wj);
-            p.x[i] += push * wi * normal.x(); p.y[i] += push * wi * normal.y(); p.z[i] += push * wi * normal.z();
-            p.x[j] -= push * wj * normal.x(); p.y[j] -= push * wj * normal.y(); p.z[j] -= push * wj * normal.z();
-            const float approach = (p.vx[i] - p.vx[j]) * normal.x() + (p.vy[i] - p.vy[j]) * normal.y() +
-                                   (p.vz[i] - p.vz[j]) * normal.z();
-            if (approach < 0.0f) {
-              const float impulse = -approach / (wi + wj);
-              p.vx[i] += impulse * wi * normal.x(); p.vy[i] += impulse * wi * normal.y(); p.vz[i] += impulse * wi * normal.z();
-              p.vx[j] -= impulse * wj * normal.x(); p.vy[j] -= impulse * wj * normal.y(); p.vz[j] -= impulse * wj * normal.z();
-            }
+            separate(p, i, j, wi, wj, contact, r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitX(), r);  // i above j in id
             ++resolved;
           }
         }
@@ -397,17 +405,7 @@ int BodySystem::fluidPass(ParticleSet& p, double t, float cell) {
             if (r >= contact * (1.0f - 1e-4f)) continue;
             const float wi = 1.0f / p.mass[i];
             const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
-            const Eigen::Vector3f normal = r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitZ();
-            const float push = (contact - r) / (wi + wj);
-            p.x[i] += push * wi * normal.x(); p.y[i] += push * wi * normal.y(); p.z[i] += push * wi * normal.z();
-            p.x[j] -= push * wj * normal.x(); p.y[j] -= push * wj * normal.y(); p.z[j] -= push * wj * normal.z();
-            const float approach = (p.vx[i] - p.vx[j]) * normal.x() + (p.vy[i] - p.vy[j]) * normal.y() +
-                                   (p.vz[i] - p.vz[j]) * normal.z();
-            if (approach < 0.0f) {
-              const float impulse = -approach / (wi + wj);
-              p.vx[i] += impulse * wi * normal.x(); p.vy[i] += impulse * wi * normal.y(); p.vz[i] += impulse * wi * normal.z();
-              p.vx[j] -= impulse * wj * normal.x(); p.vy[j] -= impulse * wj * normal.y(); p.vz[j] -= impulse * wj * normal.z();
-            }
+            separate(p, i, j, wi, wj, contact, r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitZ(), r);
             ++resolved;
           }
         }
