@@ -27,6 +27,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <set>
 
@@ -244,6 +245,29 @@ TEST(EndToEnd, QualityOptionsOverrideTheScene) {
   EXPECT_EQ(run["stages"]["render"]["primary_rays"], 40 * 30 * 2) << "one camera ray per sample";
   EXPECT_GT(run["stages"]["render"]["total_rays"], 40 * 30 * 2);
   EXPECT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --spp 0", dir.path() / "log.txt"), 2);
+}
+
+TEST(EndToEnd, RunJsonListsTheStagesABodyOnlySceneRan) {
+  // A body without fluid, muscles, pins or emitters (issue 7): springs and collisions run, the
+  // optional body stages and the fluid sources do not.
+  test::TempDir dir;
+  const fs::path scene = dir.path() / "body_only.json";
+  {
+    std::ofstream f(scene);
+    f << R"({"name": "body_only", "container": {"min": [0, 0, 0], "max": [6, 6, 6]},
+      "bodies": [{"name": "box", "shape": "box", "min": [2, 2, 2], "max": [3, 3, 3], "telescopic_density": false}],
+      "output": {"duration": 0.2, "fps": 10}})";
+  }
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("sim " + scene.string() + " -o " + out.string(), dir.path() / "log.txt"), 0)
+      << pipeline::readText(dir.path() / "log.txt");
+  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  std::set<std::string> ran;
+  for (const auto& s : run["stages"]["sim"]["stages_run"]) ran.insert(s.get<std::string>());
+  for (const char* stage : {"springs", "collisions", "integrate", "walls"}) EXPECT_TRUE(ran.count(stage)) << stage;
+  for (const char* stage : {"telescopic_density", "muscles", "pins", "emitters", "sinks"}) EXPECT_FALSE(ran.count(stage)) << stage;
+  for (const auto& [stage, figures] : run["stages"]["sim"]["step_stages"].items())
+    EXPECT_TRUE(ran.count(stage)) << "timed but not run: " << stage;
 }
 
 TEST(EndToEnd, PreviewQualityHalvesTheFrameAndCoarsensTheSurface) {
