@@ -302,6 +302,20 @@ uint64_t cellKey(int64_t cx, int64_t cy, int64_t cz) {
          (uint64_t(cz + kCellBias) & mask);
 }
 
+// Calls f(id) for every body particle listed in `cells` (sorted (cell key, id) pairs) whose cell
+// is (cx, cy, cz) or one of its 26 neighbours, in key order.
+template <class F>
+void forEachInNeighbourCells(const std::vector<std::pair<uint64_t, uint32_t>>& cells, int64_t cx, int64_t cy, int64_t cz,
+                             F&& f) {
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const uint64_t key = cellKey(cx + dx, cy + dy, cz + dz);
+        auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, uint32_t(0)));
+        for (; it != cells.end() && it->first == key; ++it) f(it->second);
+      }
+}
+
 // Pushes particles i and j apart along `normal` (from j to i) from distance r to `contact`,
 // weighted by their inverse masses wi, wj (0 = does not move), and removes their approaching
 // normal velocity: a fully inelastic penalty impulse.
@@ -346,27 +360,19 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
   for (size_t n = 0; n < count; ++n) {
     const uint32_t a = cellOrder_[n].second;
     const size_t i = indexOfId_[a];
-    const int64_t cx = cellOf(i, 0), cy = cellOf(i, 1), cz = cellOf(i, 2);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const uint64_t key = cellKey(cx + dx, cy + dy, cz + dz);
-          auto it = std::lower_bound(cellOrder_.begin(), cellOrder_.end(), std::make_pair(key, uint32_t(0)));
-          for (; it != cellOrder_.end() && it->first == key; ++it) {
-            const uint32_t b = it->second;
-            if (b <= a) continue;
-            const size_t j = indexOfId_[b];
-            const float contact = 0.5f * (diameter_[a] / lengthRatio_[a] + diameter_[b] / lengthRatio_[b]);
-            Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
-            const float r = d.norm();
-            if (r >= contact * (1.0f - 1e-4f) || springs_.connected(a, b)) continue;
-            const float wi = t < pinnedUntil_[a] ? 0.0f : 1.0f / p.mass[i];
-            const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
-            if (wi + wj <= 0.0f) continue;
-            separate(p, i, j, wi, wj, contact, r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitX(), r);  // i above j in id
-            ++resolved;
-          }
-        }
+    forEachInNeighbourCells(cellOrder_, cellOf(i, 0), cellOf(i, 1), cellOf(i, 2), [&](uint32_t b) {
+      if (b <= a) return;
+      const size_t j = indexOfId_[b];
+      const float contact = 0.5f * (diameter_[a] / lengthRatio_[a] + diameter_[b] / lengthRatio_[b]);
+      Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
+      const float r = d.norm();
+      if (r >= contact * (1.0f - 1e-4f) || springs_.connected(a, b)) return;
+      const float wi = t < pinnedUntil_[a] ? 0.0f : 1.0f / p.mass[i];
+      const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
+      if (wi + wj <= 0.0f) return;
+      separate(p, i, j, wi, wj, contact, r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitX(), r);  // i above j in id
+      ++resolved;
+    });
   }
   if (fluidContact_ > 0.0f) resolved += fluidPass(p, t, cell);
   return resolved;
@@ -384,31 +390,23 @@ int BodySystem::fluidPass(ParticleSet& p, double t, float cell) {
   }
   lo.array() -= cell;
   hi.array() += cell;
+  const auto cellOf = [cell](float v) { return int64_t(std::floor(v / cell)); };
   int resolved = 0;
   for (size_t i = 0; i < p.size(); ++i) {
     if (p.kind[i] != 0 || p.x[i] < lo.x() || p.y[i] < lo.y() || p.z[i] < lo.z() || p.x[i] > hi.x() ||
         p.y[i] > hi.y() || p.z[i] > hi.z())
       continue;
-    const int64_t cx = int64_t(std::floor(p.x[i] / cell)), cy = int64_t(std::floor(p.y[i] / cell)),
-                  cz = int64_t(std::floor(p.z[i] / cell));
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const uint64_t key = cellKey(cx + dx, cy + dy, cz + dz);
-          auto it = std::lower_bound(cellOrder_.begin(), cellOrder_.end(), std::make_pair(key, uint32_t(0)));
-          for (; it != cellOrder_.end() && it->first == key; ++it) {
-            const uint32_t b = it->second;
-            const size_t j = indexOfId_[b];
-            const float contact = fluidContact_ * diameter_[b] / lengthRatio_[b];
-            Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
-            const float r = d.norm();
-            if (r >= contact * (1.0f - 1e-4f)) continue;
-            const float wi = 1.0f / p.mass[i];
-            const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
-            separate(p, i, j, wi, wj, contact, r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitZ(), r);
-            ++resolved;
-          }
-        }
+    forEachInNeighbourCells(cellOrder_, cellOf(p.x[i]), cellOf(p.y[i]), cellOf(p.z[i]), [&](uint32_t b) {
+      const size_t j = indexOfId_[b];
+      const float contact = fluidContact_ * diameter_[b] / lengthRatio_[b];
+      Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
+      const float r = d.norm();
+      if (r >= contact * (1.0f - 1e-4f)) return;
+      const float wi = 1.0f / p.mass[i];
+      const float wj = t < pinnedUntil_[b] ? 0.0f : 1.0f / p.mass[j];
+      separate(p, i, j, wi, wj, contact, r > 0.0f ? Eigen::Vector3f(d / r) : Eigen::Vector3f::UnitZ(), r);
+      ++resolved;
+    });
   }
   return resolved;
 }
