@@ -176,13 +176,13 @@ int ShellWall::indexOf(int64_t id) const {
 
 Eigen::Vector3d ShellWall::centre(const sim::ParticleSet& p) const {
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  size_t n = 0;
+  double mass = 0.0;
   for (size_t i = 0; i < p.size(); ++i)
     if (p.kind[i] == kind_) {
-      sum += Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
-      ++n;
+      sum += double(p.mass[i]) * Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
+      mass += double(p.mass[i]);
     }
-  return n > 0 ? Eigen::Vector3d(sum / double(n)) : sum;
+  return mass > 0.0 ? Eigen::Vector3d(sum / mass) : sum;
 }
 
 double ShellWall::marginRadius(const sim::ParticleSet& p) const {
@@ -203,7 +203,9 @@ double ShellWall::marginRadius(const sim::ParticleSet& p) const {
   return sum / double(ring.size());
 }
 
-double ShellWall::tiltDegrees(const sim::ParticleSet& p) const {
+double ShellWall::tiltDegrees(const sim::ParticleSet& p) const { return tiltDegrees(p, axis_); }
+
+double ShellWall::tiltDegrees(const sim::ParticleSet& p, const Eigen::Vector3d& reference) const {
   Eigen::Vector3d margin = Eigen::Vector3d::Zero();
   size_t n = 0;
   for (size_t i = 0; i < p.size(); ++i) {
@@ -216,7 +218,7 @@ double ShellWall::tiltDegrees(const sim::ParticleSet& p) const {
   if (n == 0) return 0.0;
   const Eigen::Vector3d up = centre(p) - margin / double(n);
   if (!(up.norm() > 0.0)) return 0.0;
-  return std::acos(std::clamp(up.normalized().dot(axis_), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+  return std::acos(std::clamp(up.normalized().dot(reference.normalized()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
 }
 
 size_t ShellWall::fluidInsideWall(const sim::ParticleSet& p) const {

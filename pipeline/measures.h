@@ -125,7 +125,9 @@ public:
   // Angle between the shell's axis as built and the direction from the margin's centroid to the
   // bell's centre of mass, degrees: 0 upright as built, 180 upside down.
   double tiltDegrees(const sim::ParticleSet& particles) const;
-  // Centre of mass of the bell (equal masses), m.
+  // The same angle from another direction (from the vertical, for a bell built tilted).
+  double tiltDegrees(const sim::ParticleSet& particles, const Eigen::Vector3d& reference) const;
+  // Centre of mass of the bell (its parts may be heavier), m.
   Eigen::Vector3d centre(const sim::ParticleSet& particles) const;
 
 private:

@@ -104,6 +104,17 @@ void describe(V& v, sim::Selection& p) {
                      "'region' the box [min, max] at t = 0", {}, true});
   v.value("min", p.min, {"m", "lower corner of the region (select = 'region')"});
   v.value("max", p.max, {"m", "upper corner of the region"});
+  v.value("width", p.width,
+          {"spacings", "select = 'rim': width of the band from the edge (0 = the body's rim_width)", nonNegative()});
+}
+
+template <class V>
+void describe(V& v, sim::BodyPart& p) {
+  v.value("name", p.name, {"", "part name"});
+  v.object("particles", p.particles, {"", "its particles ('all', 'rim' or a region)", {}, true});
+  v.value("specific_gravity", p.specificGravity,
+          {"", "rest density / 1000 kg/m^3 of these particles (the body's specific_gravity holds for the rest)",
+           positive(), true});
 }
 
 template <class V>
@@ -131,6 +142,10 @@ void describe(V& v, sim::MuscleParams& p) {
   v.object("springs", p.springs,
            {"", "the springs it pulls: those whose both ends are selected ('all', 'rim' or a region)", {}, true});
   v.object("force", p.force, {"", "force per spring against time (N): positive pulls the ends together", {}, true});
+  v.value("righting", p.righting,
+          {"", "righting reflex gain (ours, after a medusa's statocysts): each spring's force is scaled by 1 - gain h, "
+               "h its ends' height above the ring's centre across the body's axis over the ring's radius, so a tilted "
+               "body contracts its lower side harder (0 = off)", between(0.0, 100.0)});
 }
 
 template <class V>
@@ -173,6 +188,9 @@ void describe(V& v, sim::BodyParams& p) {
           {"s", "the whole body is held where it was built, at rest, until this time: the fluid settles "
                 "around it first (0 = free from the start)", nonNegative()});
   v.list("muscles", p.muscles, {"", "named groups of springs driven by a force curve"});
+  v.list("parts", p.parts,
+         {"", "particles with their own specific gravity (a bottom-heavy bell: a heavier margin); where parts "
+              "overlap the later one wins"});
 }
 
 template <class V>

@@ -302,7 +302,8 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
       list.push_back({{"name", scene.sim.bodies[b].name},
                       {"kind", b + 1},
                       {"particle_mass_kg", bodies->particleMass(b)},
-                      {"rest_density_kg_per_m3", bodies->restDensity(b)}});
+                      {"rest_density_kg_per_m3", bodies->restDensity(b)},
+                      {"mean_specific_gravity", bodies->meanSpecificGravity(b)}});
       if (nlohmann::json shell = track.shellSummary(b); !shell.is_null()) list.back()["shell"] = std::move(shell);
     }
     const sim::BodyStats& bs = bodies->stats();

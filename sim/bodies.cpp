@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <limits>
 #include <cmath>
 #include <numeric>
@@ -144,6 +145,11 @@ BuiltBodies buildBodies(const SimParams& params, std::vector<BodyProblem>& probl
       for (size_t i = 0; i < pts.positions.size(); ++i) members += selected(body.pins[k], pts, i);
       if (!members) problems.push_back({b, "pins[" + std::to_string(k) + "]", "selects no particle"});
     }
+    for (size_t k = 0; k < body.parts.size(); ++k) {
+      size_t members = 0;
+      for (size_t i = 0; i < pts.positions.size(); ++i) members += selected(body.parts[k].particles, pts, i);
+      if (!members) problems.push_back({b, "parts[" + std::to_string(k) + "].particles", "selects no particle"});
+    }
     built.pairs.insert(built.pairs.end(), pairs.begin(), pairs.end());
   }
   return built;
@@ -205,16 +211,25 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
   bodyOf_.reserve(built.count);
   for (size_t b = 0; b < params.bodies.size(); ++b) {
     const BodyParams& body = params.bodies[b];
-    // Each phase's mass is calibrated at its own spacing and rest density (SPEC §1).
+    // Each phase's mass is calibrated at its own spacing and rest density (SPEC §1); a part with
+    // its own specific gravity is a phase of its own (the mass is linear in the rest density).
     mass_.push_back(calibratedParticleMass(body.spacingMetres(l), h, body.restDensity()));
     restDensity_.push_back(body.restDensity());
+    double gravitySum = 0.0;
     telescopicBody_.push_back(body.telescopicDensity);
     telescopic_ = telescopic_ || body.telescopicDensity;
     groups_.push_back({body.stiffness, body.damping, body.damper == Damper::Implicit});
     const BodyPoints& pts = built.points[b];
     for (size_t k = 0; k < pts.positions.size(); ++k) {
       const Eigen::Vector3f& q = pts.positions[k];
-      particles.add(q.x(), q.y(), q.z(), 0, 0, 0, body.restDensity(), mass_[b], nextId++, int32_t(b + 1));
+      float gravity = body.specificGravity;
+      for (const BodyPart& part : body.parts)
+        if (selected(part.particles, pts, k)) gravity = part.specificGravity;
+      gravitySum += gravity;
+      const float rho0 = 1000.0f * gravity, m = mass_[b] * (gravity / body.specificGravity);
+      baseDensity_.push_back(rho0);
+      particleMass_.push_back(m);
+      particles.add(q.x(), q.y(), q.z(), 0, 0, 0, rho0, m, nextId++, int32_t(b + 1));
       bodyOf_.push_back(int32_t(b));
       diameter_.push_back(body.spacingMetres(l));
       bool pin = false;
@@ -225,9 +240,27 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
         pinnedAt_.push_back(q);
       }
     }
-    for (const MuscleParams& m : body.muscles) muscles_.push_back({m.force});
+    for (const MuscleParams& m : body.muscles)
+      muscles_.push_back({m.force, m.righting, built.firstId[b], int64_t(pts.positions.size()), {}});
+    meanGravity_.push_back(pts.positions.empty() ? body.specificGravity : float(gravitySum / double(pts.positions.size())));
   }
   muscleForces_.assign(muscles_.size(), 0.0f);
+  if (params.gravity.norm() > 0.0f) up_ = -params.gravity.normalized();
+  muscleWeights_.resize(muscles_.size());
+  weightPointers_.assign(muscles_.size(), nullptr);
+  for (const SpringPair& pair : built.pairs)
+    for (uint32_t bits = pair.muscles; bits; bits &= bits - 1) {
+      Muscle& m = muscles_[size_t(std::countr_zero(bits))];
+      if (m.righting > 0.0f) m.ring.insert(m.ring.end(), {pair.a, pair.b});
+    }
+  for (size_t m = 0; m < muscles_.size(); ++m) {
+    if (!(muscles_[m].righting > 0.0f) || params.gravity.norm() == 0.0f) continue;
+    std::vector<int64_t>& ring = muscles_[m].ring;
+    std::sort(ring.begin(), ring.end());
+    ring.erase(std::unique(ring.begin(), ring.end()), ring.end());
+    muscleWeights_[m].assign(built.count, 1.0f);
+    weightPointers_[m] = muscleWeights_[m].data();
+  }
   lengthRatio_.assign(built.count, 1.0f);
   springs_ = SpringNetwork::fromPairs(built.pairs);
   // Explicit stability of each particle's springs and dampers (Gershgorin bounds).
@@ -238,7 +271,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
       k += groups_[s->group].stiffness;
       if (!groups_[s->group].implicitDamper) d += groups_[s->group].damping;
     }
-    const double m = mass_[size_t(bodyOf_[id])];
+    const double m = particleMass_[id];
     double step = std::numeric_limits<double>::infinity();
     if (k > 0.0) step = std::min(step, std::sqrt(2.0 * m / k));
     if (d > 0.0) step = std::min(step, m / d);
@@ -249,6 +282,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
 
 size_t BodySystem::memoryBytes() const {
   return springs_.memoryBytes() + indexOfId_.capacity() * 4 + bodyOf_.capacity() * 4 + diameter_.capacity() * 4 +
+         baseDensity_.capacity() * 4 + particleMass_.capacity() * 4 + muscleWeights_.size() * indexOfId_.size() * 4 +
          lengthRatio_.capacity() * 4 + pinnedUntil_.capacity() * 4 + cellOrder_.capacity() * sizeof(cellOrder_[0]);
 }
 
@@ -266,7 +300,7 @@ void BodySystem::updateRestDensity(ParticleSet& p) {
       const size_t i = indexOfId_[id];
       const float leng = lengthRatio(springs_, p, indexOfId_, i);  // (8)-(9)
       lengthRatio_[id] = leng;
-      p.restDensity[i] = leng * leng * leng * restDensity_[b];  // (10), rho0 <- L^dens rho0
+      p.restDensity[i] = leng * leng * leng * baseDensity_[id];  // (10), rho0 <- L^dens rho0
     }
   });
 }
@@ -281,7 +315,42 @@ void BodySystem::addMuscleForces(ParticleSet& p, double t) {
     muscleForces_[m] = muscles_[m].force.at(t);
     any = any || muscleForces_[m] != 0.0f;
   }
-  if (any) addMuscleAccelerations(springs_, muscleForces_.data(), p, indexOfId_);
+  if (!any) return;
+  for (size_t m = 0; m < muscles_.size(); ++m)
+    if (weightPointers_[m] && muscleForces_[m] != 0.0f) updateRighting(p, m);
+  addMuscleAccelerations(springs_, muscleForces_.data(), weightPointers_.data(), p, indexOfId_);
+}
+
+void BodySystem::updateRighting(const ParticleSet& p, size_t m) {
+  // The body's axis: from the ring's centroid to the body's centroid (a bell's margin to its dome).
+  const Muscle& muscle = muscles_[m];
+  auto at = [&](int64_t id) {
+    const size_t i = indexOfId_[size_t(id)];
+    return Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
+  };
+  Eigen::Vector3d body = Eigen::Vector3d::Zero(), ring = Eigen::Vector3d::Zero();
+  for (int64_t id = muscle.firstId; id < muscle.firstId + muscle.idCount; ++id) body += at(id);
+  for (int64_t id : muscle.ring) ring += at(id);
+  body /= double(muscle.idCount);
+  ring /= double(muscle.ring.size());
+  std::vector<float>& w = muscleWeights_[m];
+  const Eigen::Vector3d axis = body - ring;
+  if (!(axis.norm() > 0.0)) {
+    for (int64_t id : muscle.ring) w[size_t(id)] = 1.0f;
+    return;
+  }
+  const Eigen::Vector3d a = axis.normalized(), up = up_.cast<double>();
+  double radius = 0.0;
+  for (int64_t id : muscle.ring) {
+    const Eigen::Vector3d d = at(id) - ring;
+    radius += (d - d.dot(a) * a).norm();
+  }
+  radius /= double(muscle.ring.size());
+  for (int64_t id : muscle.ring) {
+    const Eigen::Vector3d d = at(id) - ring;
+    const double h = radius > 0.0 ? (d - d.dot(a) * a).dot(up) / radius : 0.0;
+    w[size_t(id)] = float(std::max(0.0, 1.0 - double(muscle.righting) * h));
+  }
 }
 
 void BodySystem::applyPins(ParticleSet& p, double t) const {

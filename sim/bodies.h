@@ -45,8 +45,11 @@ public:
 
   size_t particleCount() const { return pinnedUntil_.size(); }
   size_t springCount() const { return springs_.springCount(); }
+  // A body's particle mass and rest density at its specific_gravity (its parts scale both).
   float particleMass(size_t body) const { return mass_[body]; }
   float restDensity(size_t body) const { return restDensity_[body]; }
+  // Specific gravity averaged over the body's particles, parts included.
+  float meanSpecificGravity(size_t body) const { return meanGravity_[body]; }
   // The step bound of the stiffest spring: min_i min(sqrt(2 m_i / K_i), m_i / D_i) with K_i, D_i
   // the sums of k and d over particle i's springs (explicit spring and damper stability).
   float springStep() const { return springStep_; }
@@ -59,7 +62,7 @@ public:
 
   // Maps ids to sorted positions; call after every re-sort.
   void index(const ParticleSet& particles);
-  // (8)-(10): rho0_i = (L_i^leng)^3 rho0_body for the bodies with telescopic density.
+  // (8)-(10): rho0_i = (L_i^leng)^3 rho0_i(t = 0) for the bodies with telescopic density.
   void updateRestDensity(ParticleSet& particles);
   // (7) spring-damper forces for a step of dt.
   void addSpringForces(ParticleSet& particles, float dt);
@@ -75,15 +78,23 @@ public:
 private:
   struct Muscle {
     ForceCurve force;
+    float righting = 0.0f;
+    int64_t firstId = 0, idCount = 0;  // its body's ids
+    std::vector<int64_t> ring;          // ids of the particles its springs join
   };
+  void updateRighting(const ParticleSet& particles, size_t muscle);
   int collisionPass(ParticleSet& particles, double t);
 
-  std::vector<float> mass_, restDensity_;  // per body
+  std::vector<float> mass_, restDensity_, meanGravity_;  // per body
+  std::vector<float> particleMass_, baseDensity_;       // per id: m_i and rho0_i before (10)
   std::vector<uint8_t> telescopicBody_;    // per body
   std::vector<SpringGroup> groups_;        // per body
   SpringNetwork springs_;
   std::vector<Muscle> muscles_;
   std::vector<float> muscleForces_;
+  std::vector<std::vector<float>> muscleWeights_;  // per muscle: per id (righting muscles only)
+  std::vector<const float*> weightPointers_;       // per muscle: muscleWeights_ data or null
+  Eigen::Vector3f up_{0, 0, 1};                     // against gravity
   std::vector<int32_t> bodyOf_;            // per id
   std::vector<float> diameter_;            // per id: d0 of its body
   std::vector<float> lengthRatio_;         // per id: L^leng (1 without telescopic density)

@@ -127,6 +127,15 @@ struct Selection {
   SelectionKind kind = SelectionKind::Region;
   Eigen::Vector3f min{0, 0, 0};
   Eigen::Vector3f max{0, 0, 0};
+  float width = 0.0f;  // 'rim': band width in body spacings (0 = the body's rim_width)
+};
+
+// Particles of a body with their own specific gravity (a bottom-heavy bell, a weighted rim): the
+// body's specific_gravity holds for the rest; where parts overlap the later one wins.
+struct BodyPart {
+  std::string name = "part";
+  Selection particles{SelectionKind::Rim, {0, 0, 0}, {0, 0, 0}};
+  float specificGravity = 1.0f;
 };
 
 // A muscle's force per spring over time (N, positive pulls the spring's ends together).
@@ -152,6 +161,11 @@ struct MuscleParams {
   std::string name = "muscle";
   Selection springs{SelectionKind::All, {0, 0, 0}, {0, 0, 0}};
   ForceCurve force;
+  // Righting reflex (ours, after the statocysts of medusae): the force on each spring is scaled by
+  // 1 - gain h, h the height of its ends above the ring's centre across the body's axis, over the
+  // ring's radius (h = -sin(tilt) on the lowest side of a tilted ring, 0 all round when level), so a
+  // tilted body contracts its lower side harder. 0 = off.
+  float righting = 0.0f;
 };
 
 enum class Damper {
@@ -183,6 +197,7 @@ struct BodyParams {
   std::vector<Selection> pins;      // particles held fixed in space
   float holdUntil = 0.0f;           // s: the whole body is held where it was built until then
   std::vector<MuscleParams> muscles;
+  std::vector<BodyPart> parts;      // particles with their own specific gravity
 
   float spacingMetres(float fluidSpacing) const { return spacing * fluidSpacing; }
   float restDensity() const { return 1000.0f * specificGravity; }

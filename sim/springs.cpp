@@ -187,7 +187,7 @@ void addSpringAccelerations(const SpringNetwork& springs, const std::vector<Spri
   }
 }
 
-void addMuscleAccelerations(const SpringNetwork& springs, const float* forces, ParticleSet& p,
+void addMuscleAccelerations(const SpringNetwork& springs, const float* forces, const float* const* weights, ParticleSet& p,
                             const std::vector<uint32_t>& indexOfId) {
   if (springs.springCount() == 0) return;
   tbb::parallel_for(tbb::blocked_range<int64_t>(springs.minId(), springs.maxId() + 1, 256),
@@ -201,7 +201,11 @@ void addMuscleAccelerations(const SpringNetwork& springs, const float* forces, P
       for (const SpringNetwork::End* s = first; s != last; ++s) {
         if (!s->muscles) continue;
         float f = 0.0f;
-        for (uint32_t bits = s->muscles; bits; bits &= bits - 1) f += forces[std::countr_zero(bits)];
+        for (uint32_t bits = s->muscles; bits; bits &= bits - 1) {
+          const int m = std::countr_zero(bits);
+          const float* w = weights ? weights[m] : nullptr;
+          f += w ? forces[m] * 0.5f * (w[id] + w[s->other]) : forces[m];
+        }
         if (f == 0.0f) continue;
         const uint32_t q = indexOfId[s->other];
         const Eigen::Vector3f r(p.x[i] - p.x[q], p.y[i] - p.y[q], p.z[i] - p.z[q]);

@@ -86,8 +86,11 @@ void addSpringAccelerations(const SpringNetwork& springs, float stiffness, float
                             ParticleSet& particles, const std::vector<uint32_t>& indexOfId);
 
 // Muscles (SPEC §4.2, §4.3): muscle m pulls the ends of each of its springs together with force
-// forces[m] (N; negative pushes them apart): F_i += -sum_q sum_m f_m r_iq / |r_iq|.
-void addMuscleAccelerations(const SpringNetwork& springs, const float* forces, ParticleSet& particles,
+// forces[m] (N; negative pushes them apart): F_i += -sum_q sum_m f_m w_m r_iq / |r_iq|, where
+// w_m = (weights[m][i] + weights[m][q]) / 2 for a muscle with per-particle weights (indexed by id;
+// a righting muscle) and 1 where weights is null or weights[m] is null.
+void addMuscleAccelerations(const SpringNetwork& springs, const float* forces, const float* const* weights,
+                            ParticleSet& particles,
                             const std::vector<uint32_t>& indexOfId);
 
 // (8)-(9) L_i^leng = sum_q (r0_iq / |r_iq|) W_lens / sum_q W_lens with W_lens = 1 / r0_iq, for the

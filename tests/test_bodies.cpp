@@ -3,6 +3,7 @@
 // and membrane (Fig. 2), and which stages a scene runs.
 #include "pipeline/files.h"
 #include "pipeline/scene.h"
+#include "sim/body_shapes.h"
 #include "sim/simulation.h"
 #include "test_util.h"
 
@@ -289,6 +290,135 @@ TEST(Pins, AHeldBodyStaysWhereItWasBuiltUntilItsReleaseThenFalls) {
   sim.advanceTo(1.0);
   const double fallen = z0 - bodyExtent(sim.particles(), 1).centre.z();
   EXPECT_NEAR(fallen, 0.5 * 6.0 * 0.5 * 0.5, 0.05) << "free fall from the release at 0.5 s";
+}
+
+TEST(Parts, GiveTheirParticlesTheirOwnRestDensityAndMass) {
+  // A two-layer shell of specific gravity 1 with a heavier margin ring (a 'rim' part one spacing
+  // wide) and, overriding it where they overlap, a lighter half.
+  SimParams world = emptyWorld();
+  BodyParams bell;
+  bell.name = "bell";
+  bell.shape = BodyShape::Shell;
+  bell.center = Eigen::Vector3f(6, 6, 4);
+  bell.innerRadius = 3.0f;
+  bell.openingAngle = 75.0f;
+  bell.layers = 2;
+  bell.specificGravity = 1.0f;
+  bell.rimWidth = 4.0f;  // a muscle band; the part names its own width
+  BodyPart margin;
+  margin.particles.kind = SelectionKind::Rim;
+  margin.particles.width = 1.0f;
+  margin.specificGravity = 2.0f;
+  BodyPart half;
+  half.particles.kind = SelectionKind::Region;
+  half.particles.min = Eigen::Vector3f(0, 0, 0);
+  half.particles.max = Eigen::Vector3f(6, 12, 12);
+  half.specificGravity = 0.5f;
+  bell.parts = {margin, half};
+  world.bodies.push_back(bell);
+  const BodyPoints points = bodyPoints(bell, world.fluid.spacing);
+  Simulation sim(world);
+  const ParticleSet& p = sim.particles();
+  const float m = sim.bodies()->particleMass(0);
+  ASSERT_EQ(p.size(), points.positions.size());
+  size_t heavy = 0, light = 0, rings = 0;
+  double gravity = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const size_t k = size_t(p.id[i]);  // body ids follow the order of bodyPoints
+    const bool inHalf = points.positions[k].x() <= 6.0f;
+    const bool onMargin = points.edge[k] < 0.5f;
+    const float expected = inHalf ? 0.5f : onMargin ? 2.0f : 1.0f;
+    EXPECT_FLOAT_EQ(p.restDensity[i], 1000.0f * expected) << "particle " << k;
+    EXPECT_FLOAT_EQ(p.mass[i], m * expected) << "particle " << k;
+    heavy += expected == 2.0f;
+    light += expected == 0.5f;
+    rings += points.edge[k] < 1.0f;
+    gravity += expected;
+  }
+  EXPECT_GT(heavy, 10u);
+  EXPECT_GT(light, p.size() / 3);
+  EXPECT_GT(rings, heavy) << "the margin ring lies on both halves";
+  EXPECT_NEAR(sim.bodies()->meanSpecificGravity(0), gravity / double(p.size()), 1e-5);
+  // The band of a 'rim' selection: width 2 takes the last two rings, no width the body's rim_width.
+  Selection two;
+  two.kind = SelectionKind::Rim;
+  two.width = 2.0f;
+  Selection band;
+  band.kind = SelectionKind::Rim;
+  size_t inTwo = 0, inBand = 0;
+  for (size_t k = 0; k < points.positions.size(); ++k) {
+    inTwo += selected(two, points, k);
+    inBand += selected(band, points, k);
+    EXPECT_EQ(selected(two, points, k), points.edge[k] < 1.5f) << k;
+    EXPECT_EQ(selected(band, points, k), points.edge[k] < 3.5f) << k;
+  }
+  EXPECT_LT(rings, inTwo);
+  EXPECT_LT(inTwo, inBand);
+}
+
+namespace {
+
+// Muscle force on the lower and the upper half of a shell's ring muscle (N, summed magnitudes),
+// the shell tilted by `tilt` degrees about y, the muscle's righting gain `gain`.
+std::pair<double, double> ringForces(float tilt, float gain) {
+  SimParams world = emptyWorld();
+  world.gravity = Eigen::Vector3f(0, 0, -6);
+  BodyParams bell;
+  bell.name = "bell";
+  bell.shape = BodyShape::Shell;
+  bell.center = Eigen::Vector3f(6, 6, 5);
+  const float a = tilt * 3.14159265f / 180.0f;
+  bell.axis = Eigen::Vector3f(std::sin(a), 0, std::cos(a));
+  bell.innerRadius = 3.0f;
+  bell.openingAngle = 75.0f;
+  bell.layers = 2;
+  bell.rimWidth = 2.0f;
+  MuscleParams ring;
+  ring.springs.kind = SelectionKind::Rim;
+  ring.force.keys = {{0.0f, 100.0f}};
+  ring.righting = gain;
+  bell.muscles.push_back(ring);
+  world.bodies.push_back(bell);
+  ParticleSet p;
+  int64_t nextId = 0;
+  BodySystem bodies(world, p, nextId);
+  bodies.index(p);
+  std::fill(p.ax.begin(), p.ax.end(), 0.0f);
+  std::fill(p.ay.begin(), p.ay.end(), 0.0f);
+  std::fill(p.az.begin(), p.az.end(), 0.0f);
+  bodies.addMuscleForces(p, 0.0);
+  // The ring's centre height: the mean height of the particles the muscle pulls.
+  double zRing = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.ax[i] != 0.0f || p.ay[i] != 0.0f || p.az[i] != 0.0f) {
+      zRing += p.z[i];
+      ++n;
+    }
+  zRing /= double(n);
+  double lower = 0.0, upper = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const double f = p.mass[i] * Eigen::Vector3d(p.ax[i], p.ay[i], p.az[i]).norm();
+    (p.z[i] < zRing ? lower : upper) += f;
+  }
+  return {lower, upper};
+}
+
+}  // namespace
+
+TEST(Muscles, RightingReflexContractsTheLowerSideOfATiltedRingHarder) {
+  const auto [plainLow, plainHigh] = ringForces(20.0f, 0.0f);
+  const auto [rightLow, rightHigh] = ringForces(20.0f, 1.0f);
+  const auto [levelLow, levelHigh] = ringForces(0.0f, 1.0f);
+  const auto [levelPlainLow, levelPlainHigh] = ringForces(0.0f, 0.0f);
+  std::printf("tilted 20 deg: lower/upper force %.3f without the reflex, %.3f with gain 1\n", plainLow / plainHigh,
+              rightLow / rightHigh);
+  EXPECT_NEAR(plainLow / plainHigh, 1.0, 0.1) << "without the reflex both sides pull alike";
+  // Gain 1 scales the lowest spring by 1 + sin 20 deg = 1.34 and the highest by 0.66.
+  EXPECT_GT(rightLow / rightHigh, 1.3 * plainLow / plainHigh);
+  EXPECT_NEAR(rightLow + rightHigh, plainLow + plainHigh, 0.05 * (plainLow + plainHigh)) << "on average unchanged";
+  EXPECT_NEAR(levelLow, levelPlainLow, 1e-3 * levelPlainLow) << "a level ring is not steered";
+  EXPECT_NEAR(levelHigh, levelPlainHigh, 1e-3 * levelPlainHigh);
 }
 
 TEST(Collisions, FluidContactKeepsAFastFluidParticleOutOfAMembrane) {

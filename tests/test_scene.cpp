@@ -85,6 +85,13 @@ const BadScene kBadScenes[] = {
     {"PinSelectsNothing", [](json& s) {
        addBox(s)["pins"] = {{{"select", "region"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}}};
      }, "bodies[0].pins[0]", "selects no particle"},
+    {"PartSelectsNothing", [](json& s) {
+       addBox(s)["parts"] = {{{"particles", {{"select", "region"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}}},
+                              {"specific_gravity", 2.0}}};
+     }, "bodies[0].parts[0].particles", "selects no particle"},
+    {"PartWithoutSpecificGravity", [](json& s) {
+       addBox(s)["parts"] = {{{"particles", {{"select", "all"}}}}};
+     }, "bodies[0].parts[0].specific_gravity", "is required but missing"},
     {"ChainAttachedToMissingBody", [](json& s) {
        json& b = addBox(s);
        b["shape"] = "chain";
