@@ -283,7 +283,8 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
 size_t BodySystem::memoryBytes() const {
   return springs_.memoryBytes() + indexOfId_.capacity() * 4 + bodyOf_.capacity() * 4 + diameter_.capacity() * 4 +
          baseDensity_.capacity() * 4 + particleMass_.capacity() * 4 + muscleWeights_.size() * indexOfId_.size() * 4 +
-         lengthRatio_.capacity() * 4 + pinnedUntil_.capacity() * 4 + cellOrder_.capacity() * sizeof(cellOrder_[0]);
+         lengthRatio_.capacity() * 4 + pinnedUntil_.capacity() * 4 + cells_.order.capacity() * sizeof(cells_.order[0]) +
+         cells_.range.capacity() * sizeof(cells_.range[0]);
 }
 
 void BodySystem::index(const ParticleSet& p) {
@@ -371,17 +372,25 @@ uint64_t cellKey(int64_t cx, int64_t cy, int64_t cz) {
          (uint64_t(cz + kCellBias) & mask);
 }
 
-// Calls f(id) for every body particle listed in `cells` (sorted (cell key, id) pairs) whose cell
-// is (cx, cy, cz) or one of its 26 neighbours, in key order.
+// Calls f(id) for every body particle of `cells` whose cell is (cx, cy, cz) or one of its 26
+// neighbours, by cell (z, then y, then x offset) and by id within a cell.
 template <class F>
-void forEachInNeighbourCells(const std::vector<std::pair<uint64_t, uint32_t>>& cells, int64_t cx, int64_t cy, int64_t cz,
-                             F&& f) {
-  for (int dz = -1; dz <= 1; ++dz)
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx) {
-        const uint64_t key = cellKey(cx + dx, cy + dy, cz + dz);
-        auto it = std::lower_bound(cells.begin(), cells.end(), std::make_pair(key, uint32_t(0)));
-        for (; it != cells.end() && it->first == key; ++it) f(it->second);
+void forEachInNeighbourCells(const detail::BodyCellTable& cells, int64_t cx, int64_t cy, int64_t cz, F&& f) {
+  if (cells.range.empty()) {  // bodies spread over too many cells for a table: binary searches
+    for (int64_t dz = -1; dz <= 1; ++dz)
+      for (int64_t dy = -1; dy <= 1; ++dy)
+        for (int64_t dx = -1; dx <= 1; ++dx) {
+          const uint64_t key = cellKey(cx + dx, cy + dy, cz + dz);
+          auto it = std::lower_bound(cells.order.begin(), cells.order.end(), std::make_pair(key, uint32_t(0)));
+          for (; it != cells.order.end() && it->first == key; ++it) f(it->second);
+        }
+    return;
+  }
+  for (int64_t z = std::max(cz - 1, cells.z0); z <= std::min(cz + 1, cells.z0 + cells.nz - 1); ++z)
+    for (int64_t y = std::max(cy - 1, cells.y0); y <= std::min(cy + 1, cells.y0 + cells.ny - 1); ++y)
+      for (int64_t x = std::max(cx - 1, cells.x0); x <= std::min(cx + 1, cells.x0 + cells.nx - 1); ++x) {
+        const auto [begin, end] = cells.range[size_t(((z - cells.z0) * cells.ny + (y - cells.y0)) * cells.nx + (x - cells.x0))];
+        for (uint32_t k = begin; k < end; ++k) f(cells.order[k].second);
       }
 }
 
@@ -419,17 +428,36 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
     const float v = axis == 0 ? p.x[i] : axis == 1 ? p.y[i] : p.z[i];
     return int64_t(std::floor(v / cell));
   };
-  cellOrder_.resize(count);
+  detail::BodyCellTable& table = cells_;
+  table.order.resize(count);
+  Eigen::Array<int64_t, 3, 1> lo = Eigen::Array<int64_t, 3, 1>::Constant(std::numeric_limits<int64_t>::max()), hi = -lo;
   for (size_t id = 0; id < count; ++id) {
     const size_t i = indexOfId_[id];
-    cellOrder_[id] = {cellKey(cellOf(i, 0), cellOf(i, 1), cellOf(i, 2)), uint32_t(id)};
+    const Eigen::Array<int64_t, 3, 1> c(cellOf(i, 0), cellOf(i, 1), cellOf(i, 2));
+    lo = lo.min(c);
+    hi = hi.max(c);
+    table.order[id] = {cellKey(c.x(), c.y(), c.z()), uint32_t(id)};
   }
-  std::sort(cellOrder_.begin(), cellOrder_.end());
+  std::sort(table.order.begin(), table.order.end());
+  const Eigen::Array<int64_t, 3, 1> n = hi - lo + 1;
+  table.range.clear();
+  if (count > 0 && n.prod() <= int64_t(64 * count + 65536)) {
+    table.x0 = lo.x(), table.y0 = lo.y(), table.z0 = lo.z();
+    table.nx = n.x(), table.ny = n.y(), table.nz = n.z();
+    table.range.assign(size_t(n.prod()), {0u, 0u});
+    for (uint32_t k = 0; k < uint32_t(count);) {
+      uint32_t end = k + 1;
+      while (end < count && table.order[end].first == table.order[k].first) ++end;
+      const size_t i = indexOfId_[table.order[k].second];
+      table.range[size_t(((cellOf(i, 2) - lo.z()) * n.y() + (cellOf(i, 1) - lo.y())) * n.x() + (cellOf(i, 0) - lo.x()))] = {k, end};
+      k = end;
+    }
+  }
   int resolved = 0;
   for (size_t n = 0; n < count; ++n) {
-    const uint32_t a = cellOrder_[n].second;
+    const uint32_t a = table.order[n].second;
     const size_t i = indexOfId_[a];
-    forEachInNeighbourCells(cellOrder_, cellOf(i, 0), cellOf(i, 1), cellOf(i, 2), [&](uint32_t b) {
+    forEachInNeighbourCells(table, cellOf(i, 0), cellOf(i, 1), cellOf(i, 2), [&](uint32_t b) {
       if (b <= a) return;
       const size_t j = indexOfId_[b];
       const float contact = 0.5f * (diameter_[a] / lengthRatio_[a] + diameter_[b] / lengthRatio_[b]);
@@ -447,12 +475,12 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
   return resolved;
 }
 
-// Fluid against bodies, with the grid of the body pass (cellOrder_ sorted): every fluid particle
+// Fluid against bodies, with the grid of the body pass (cells_): every fluid particle
 // closer than fluidContact d_j / L_j to body particle j is pushed out to that distance and its
 // approach removed, mass-weighted as between body particles.
 int BodySystem::fluidPass(ParticleSet& p, double t, float cell) {
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
-  for (const auto& [key, id] : cellOrder_) {
+  for (const auto& [key, id] : cells_.order) {
     const size_t j = indexOfId_[id];
     lo = lo.cwiseMin(Eigen::Vector3f(p.x[j], p.y[j], p.z[j]));
     hi = hi.cwiseMax(Eigen::Vector3f(p.x[j], p.y[j], p.z[j]));
@@ -465,7 +493,7 @@ int BodySystem::fluidPass(ParticleSet& p, double t, float cell) {
     if (p.kind[i] != 0 || p.x[i] < lo.x() || p.y[i] < lo.y() || p.z[i] < lo.z() || p.x[i] > hi.x() ||
         p.y[i] > hi.y() || p.z[i] > hi.z())
       continue;
-    forEachInNeighbourCells(cellOrder_, cellOf(p.x[i]), cellOf(p.y[i]), cellOf(p.z[i]), [&](uint32_t b) {
+    forEachInNeighbourCells(cells_, cellOf(p.x[i]), cellOf(p.y[i]), cellOf(p.z[i]), [&](uint32_t b) {
       const size_t j = indexOfId_[b];
       const float contact = fluidContact_ * diameter_[b] / lengthRatio_[b];
       Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);

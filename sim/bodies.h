@@ -36,6 +36,17 @@ struct BodyStats {
   int mostPasses = 0;               // most passes in one step
 };
 
+namespace detail {
+// The collision grid: the body particles as (cell key, id) sorted, and over the box of cells they
+// occupy a dense table of each cell's [begin, end) in that order (empty when the box is too large
+// for one: then cells are found by binary search).
+struct BodyCellTable {
+  std::vector<std::pair<uint64_t, uint32_t>> order;
+  std::vector<std::pair<uint32_t, uint32_t>> range;
+  int64_t x0 = 0, y0 = 0, z0 = 0, nx = 0, ny = 0, nz = 0;
+};
+}  // namespace detail
+
 class BodySystem {
 public:
   // Appends the bodies' particles to `particles` with ids nextId, nextId + 1, ... (nextId must be
@@ -103,7 +114,7 @@ private:
   std::vector<Eigen::Vector3f> pinnedAt_;
   std::vector<uint32_t> indexOfId_;
   std::vector<Eigen::Vector3f> predicted_;  // scratch of the implicit dampers
-  std::vector<std::pair<uint64_t, uint32_t>> cellOrder_;  // collision grid scratch: (cell key, id)
+  detail::BodyCellTable cells_;  // collision grid scratch
   int fluidPass(ParticleSet& particles, double t, float cell);
   bool telescopic_ = false;
   float fluidContact_ = 0.0f;  // CollisionParams::fluidContact
