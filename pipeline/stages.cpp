@@ -30,8 +30,10 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// `phaseRestDensity[k]` is the initial rest density of kind k (fluid, then each body).
-ParticleFrame toFrame(const sim::ParticleSet& p, double time, int frame, const std::vector<float>& phaseRestDensity) {
+// The rest density factor is rho0_i over the particle's rest density as built (the fluid's, or its
+// body part's): L^dens for body particles.
+ParticleFrame toFrame(const sim::ParticleSet& p, double time, int frame, float fluidRestDensity,
+                      const sim::BodySystem* bodies) {
   ParticleFrame f;
   f.time = time;
   f.frame = frame;
@@ -40,7 +42,9 @@ ParticleFrame toFrame(const sim::ParticleSet& p, double time, int frame, const s
   f.id = p.id;
   f.kind = p.kind;
   f.restDensityFactor.resize(p.size());
-  for (size_t i = 0; i < p.size(); ++i) f.restDensityFactor[i] = p.restDensity[i] / phaseRestDensity[size_t(p.kind[i])];
+  for (size_t i = 0; i < p.size(); ++i)
+    f.restDensityFactor[i] =
+        p.restDensity[i] / (p.kind[i] == 0 || !bodies ? fluidRestDensity : bodies->initialRestDensity(p.id[i]));
   return f;
 }
 
@@ -66,7 +70,7 @@ public:
                                                         scene_.sim.fluid.spacing)
                              : std::nullopt);
     std::vector<Eigen::Vector3d> centre(bodies, Eigen::Vector3d::Zero());
-    std::vector<double> count(bodies, 0.0), factor(bodies, 0.0);
+    std::vector<double> count(bodies, 0.0), mass(bodies, 0.0), factor(bodies, 0.0);
     std::vector<float> fluidZ;
     for (size_t i = 0; i < p.size(); ++i) {
       if (p.kind[i] == 0) {
@@ -74,9 +78,10 @@ public:
         continue;
       }
       const size_t b = size_t(p.kind[i] - 1);
-      centre[b] += Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
+      centre[b] += double(p.mass[i]) * Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
+      mass[b] += double(p.mass[i]);
       count[b] += 1.0;
-      factor[b] += p.restDensity[i] / scene_.sim.bodies[b].restDensity();
+      factor[b] += p.restDensity[i] / simulation.bodies()->initialRestDensity(p.id[i]);
     }
     Row row;
     row.time = simulation.time();
@@ -87,7 +92,7 @@ public:
       row.surface = fluidZ[k];
     }
     for (size_t b = 0; b < bodies; ++b) {
-      row.centres.push_back(count[b] > 0 ? Eigen::Vector3d(centre[b] / count[b]) : Eigen::Vector3d::Zero());
+      row.centres.push_back(mass[b] > 0 ? Eigen::Vector3d(centre[b] / mass[b]) : Eigen::Vector3d::Zero());
       row.factors.push_back(count[b] > 0 ? factor[b] / count[b] : 1.0);
       if (walls_[b]) {
         row.margins.push_back(walls_[b]->marginRadius(p));
@@ -245,14 +250,14 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   const fs::path folder = options.outDir / "particles";
   fs::create_directories(folder);
   sim::Simulation simulation(scene.sim);
-  std::vector<float> phaseRestDensity{scene.sim.fluid.restDensity};
-  for (const sim::BodyParams& b : scene.sim.bodies) phaseRestDensity.push_back(b.restDensity());
   BodyTrack track(scene);
   Progress progress("sim", last + 1, options.progress);
   for (int f = 0; f <= last; ++f) {
     simulation.advanceTo(scene.output.frameTime(f));
     track.record(simulation);
-    if (f >= first) writeParticleFrame(frameFile(folder, f, "vdb"), toFrame(simulation.particles(), simulation.time(), f, phaseRestDensity));
+    if (f >= first)
+      writeParticleFrame(frameFile(folder, f, "vdb"), toFrame(simulation.particles(), simulation.time(), f,
+                                                             scene.sim.fluid.restDensity, simulation.bodies()));
     progress.advance(f + 1);
   }
   progress.finish();

@@ -59,6 +59,8 @@ public:
   // A body's particle mass and rest density at its specific_gravity (its parts scale both).
   float particleMass(size_t body) const { return mass_[body]; }
   float restDensity(size_t body) const { return restDensity_[body]; }
+  // Rest density of the particle with this id as built (its part's, else its body's), kg/m^3.
+  float initialRestDensity(int64_t id) const { return baseDensity_[size_t(id)]; }
   // Specific gravity averaged over the body's particles, parts included.
   float meanSpecificGravity(size_t body) const { return meanGravity_[body]; }
   // The step bound of the stiffest spring: min_i min(sqrt(2 m_i / K_i), m_i / D_i) with K_i, D_i

@@ -330,6 +330,8 @@ TEST(Parts, GiveTheirParticlesTheirOwnRestDensityAndMass) {
     const float expected = inHalf ? 0.5f : onMargin ? 2.0f : 1.0f;
     EXPECT_FLOAT_EQ(p.restDensity[i], 1000.0f * expected) << "particle " << k;
     EXPECT_FLOAT_EQ(p.mass[i], m * expected) << "particle " << k;
+    // What the caches' rest_density_factor divides by: 1 at rest for every part.
+    EXPECT_FLOAT_EQ(sim.bodies()->initialRestDensity(p.id[i]), 1000.0f * expected) << "particle " << k;
     heavy += expected == 2.0f;
     light += expected == 0.5f;
     rings += points.edge[k] < 1.0f;
