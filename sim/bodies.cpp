@@ -282,9 +282,11 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
 
 size_t BodySystem::memoryBytes() const {
   return springs_.memoryBytes() + indexOfId_.capacity() * 4 + bodyOf_.capacity() * 4 + diameter_.capacity() * 4 +
-         baseDensity_.capacity() * 4 + particleMass_.capacity() * 4 + muscleWeights_.size() * indexOfId_.size() * 4 +
+         baseDensity_.capacity() * 4 + particleMass_.capacity() * 4 +
          lengthRatio_.capacity() * 4 + pinnedUntil_.capacity() * 4 + cells_.order.capacity() * sizeof(cells_.order[0]) +
-         cells_.range.capacity() * sizeof(cells_.range[0]);
+         cells_.range.capacity() * sizeof(cells_.range[0]) +
+         std::accumulate(muscleWeights_.begin(), muscleWeights_.end(), size_t(0),
+                         [](size_t sum, const std::vector<float>& w) { return sum + w.capacity() * 4; });
 }
 
 void BodySystem::index(const ParticleSet& p) {
