@@ -7,6 +7,7 @@
 #include "pipeline/particle_cache.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/scene.h"
+#include "pipeline/sim_frame.h"
 #include "render/surfacing.h"
 #include "sim/simulation.h"
 
@@ -43,16 +44,7 @@ constexpr const char* kHelp =
 ParticleFrame simulateTo(const Scene& scene, double time) {
   sim::Simulation simulation(scene.sim);
   simulation.advanceTo(time);
-  const sim::ParticleSet& p = simulation.particles();
-  ParticleFrame f;
-  f.time = simulation.time();
-  f.px = p.x; f.py = p.y; f.pz = p.z;
-  f.vx = p.vx; f.vy = p.vy; f.vz = p.vz;
-  f.id = p.id;
-  f.kind = p.kind;
-  f.restDensityFactor.resize(p.size());
-  for (size_t i = 0; i < p.size(); ++i) f.restDensityFactor[i] = p.restDensity[i] / scene.sim.fluid.restDensity;
-  return f;
+  return frameFromSimulation(scene, simulation, 0);
 }
 
 }  // namespace

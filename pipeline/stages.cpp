@@ -5,6 +5,7 @@
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
 #include "pipeline/render_scene.h"
+#include "pipeline/sim_frame.h"
 #include "render/plot.h"
 #include "render/tracer.h"
 #include "sim/simulation.h"
@@ -28,24 +29,6 @@ namespace {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
-// The rest density factor is rho0_i over the particle's rest density as built (the fluid's, or its
-// body part's): L^dens for body particles.
-ParticleFrame toFrame(const sim::ParticleSet& p, double time, int frame, float fluidRestDensity,
-                      const sim::BodySystem* bodies) {
-  ParticleFrame f;
-  f.time = time;
-  f.frame = frame;
-  f.px = p.x; f.py = p.y; f.pz = p.z;
-  f.vx = p.vx; f.vy = p.vy; f.vz = p.vz;
-  f.id = p.id;
-  f.kind = p.kind;
-  f.restDensityFactor.resize(p.size());
-  for (size_t i = 0; i < p.size(); ++i)
-    f.restDensityFactor[i] =
-        p.restDensity[i] / (p.kind[i] == 0 || !bodies ? fluidRestDensity : bodies->initialRestDensity(p.id[i]));
-  return f;
 }
 
 void requireFile(const fs::path& file, const char* producer) {
@@ -256,8 +239,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
     simulation.advanceTo(scene.output.frameTime(f));
     track.record(simulation);
     if (f >= first)
-      writeParticleFrame(frameFile(folder, f, "vdb"), toFrame(simulation.particles(), simulation.time(), f,
-                                                             scene.sim.fluid.restDensity, simulation.bodies()));
+      writeParticleFrame(frameFile(folder, f, "vdb"), frameFromSimulation(scene, simulation, f));
     progress.advance(f + 1);
   }
   progress.finish();

@@ -1,6 +1,9 @@
 // Particle caches: bit-exact round trips (positions far from the origin and negative included),
 // metadata, empty frames, and refusal of missing, truncated and foreign files.
 #include "pipeline/particle_cache.h"
+#include "pipeline/scene.h"
+#include "pipeline/sim_frame.h"
+#include "sim/simulation.h"
 #include "render/surfacing.h"
 
 #include "test_util.h"
@@ -220,6 +223,46 @@ TEST(ParticleCache, WriterRefusesInconsistentFrames) {
   expectErrorNamingPath([&] { writeParticleFrame(path, frame); }, path);
   EXPECT_FALSE(fs::exists(path));
   EXPECT_FALSE(fs::exists(path.string() + ".tmp"));
+}
+
+}  // namespace
+}  // namespace kurage::pipeline
+
+// The one conversion from the simulation to a frame (pipeline/sim_frame.h): every kind by name,
+// and rest density factors relative to each particle's own rest density as built.
+namespace kurage::pipeline {
+namespace {
+
+TEST(SimFrame, NamesEveryKindAndGivesFactorsOfOneAtRest) {
+  const Scene scene = loadScene(test::sourceDir() / "scenes/jellyfish.json");
+  const sim::Simulation simulation(scene.sim);
+  const ParticleFrame frame = frameFromSimulation(scene, simulation, 7);
+  std::vector<std::string> expected{"fluid"};
+  for (const sim::BodyParams& b : scene.sim.bodies) expected.push_back(b.name);
+  ASSERT_GE(expected.size(), 3u);
+  EXPECT_EQ(frame.kindNames, expected);
+  EXPECT_EQ(frame.frame, 7);
+  ASSERT_EQ(frame.restDensityFactor.size(), frame.size());
+  std::vector<int> perKind(frame.kindNames.size(), 0);
+  for (size_t i = 0; i < frame.size(); ++i) {
+    ASSERT_GE(frame.kind[i], 0);
+    ASSERT_LT(size_t(frame.kind[i]), frame.kindNames.size());
+    ++perKind[size_t(frame.kind[i])];
+    // The bell's margin ring is built heavier than the rest of the bell (its own specific gravity):
+    // dividing by the fluid's rest density, as `kurage still` once did, gives its gravity here.
+    EXPECT_FLOAT_EQ(frame.restDensityFactor[i], 1.0f) << "particle " << i << " kind " << frame.kind[i];
+  }
+  for (size_t k = 0; k < perKind.size(); ++k) EXPECT_GT(perKind[k], 0) << frame.kindNames[k];
+}
+
+TEST(SimFrame, ABodySceneCacheListsEveryKind) {
+  TempDir dir;
+  const fs::path scene = test::sourceDir() / "tests/scenes/tiny_jellyfish.json";
+  ASSERT_EQ(test::runKurage("sim " + scene.string() + " -o " + dir.path().string() + " --frames 0-0",
+                            dir.path() / "log.txt"),
+            0);
+  const ParticleFrame frame = readParticleFrame(dir.path() / "particles/0000.vdb");
+  EXPECT_EQ(frame.kindNames, (std::vector<std::string>{"fluid", "bell", "arm1", "arm2"}));
 }
 
 }  // namespace
