@@ -67,6 +67,7 @@ int commandSchema(std::vector<std::string> args);
 int commandBench(std::vector<std::string> args);  // dispatches to the bench* functions below
 int commandStill(std::vector<std::string> args);  // pipeline/cmd_still.cpp
 int commandPreview(std::vector<std::string> args);  // pipeline/cmd_preview.cpp
+int commandExport(std::vector<std::string> args);   // pipeline/cmd_export.cpp
 int benchSim(ArgParser& args);      // pipeline/cmd_bench_sim.cpp
 int benchRender(ArgParser& args);   // pipeline/cmd_bench_render.cpp
 int benchSurface(ArgParser& args);  // pipeline/cmd_bench_surface.cpp

@@ -34,7 +34,8 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
                 name.c_str(), name == "run" || name == "render" ? " [--no-video]" : "");
     if (name == "run")
       std::printf("Simulates, surfaces and renders: OUT/particles, OUT/surfaces, OUT/frames, and OUT/NAME.mp4\n"
-                  "(NAME = the scene's name) when ffmpeg is on the PATH.\n\n");
+                  "(NAME = the scene's name) when ffmpeg is on the PATH; the scene's output.exports into\n"
+                  "OUT/exports (see `kurage export --help`).\n\n");
     if (name == "sim") std::printf("Simulates only: OUT/particles/NNNN.vdb.\n\n");
     if (name == "surface") std::printf("Metaball level sets from OUT/particles: OUT/surfaces/NNNN.vdb.\n\n");
     if (name == "render")
@@ -78,6 +79,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   if (all || name == "sim") runSimStage(scene, options.stage, record);
   if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
   if (all || name == "render") runRenderStage(scene, options.stage, record);
+  if (all && scene.output.exports.any()) runExportStage(scene, options.stage, record);
   const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
   const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
   std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());

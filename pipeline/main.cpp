@@ -22,6 +22,7 @@ constexpr const char* kUsage =
     "  surface SCENE -o OUT  metaball level sets from the caches: OUT/surfaces/NNNN.vdb\n"
     "  render SCENE -o OUT   frames from the level sets: OUT/frames/NNNN.png\n"
     "  preview SCENE -o OUT  particles as spheres (OpenGL): OUT/preview/NNNN.png, preview.mp4\n"
+    "  export OUT --format F files for Blender, ParaView, mesh tools: OUT/exports/ (PLY, OBJ, VTP)\n"
     "  still SCENE --time T -o FILE.png   one path-traced frame at any time and resolution\n"
     "  study STUDY -o OUT    accuracy against cost: a sweep of scene knobs, OUT/study.csv, .png, .md\n"
     "  check SCENE           validate a scene file and exit\n"
@@ -49,6 +50,7 @@ int dispatch(const std::string& command, std::vector<std::string> args) {
   if (command == "bench") return commandBench(std::move(args));
   if (command == "still") return commandStill(std::move(args));
   if (command == "preview") return commandPreview(std::move(args));
+  if (command == "export") return commandExport(std::move(args));
   if (command == "study") return commandStudy(std::move(args));
   throw UsageError("unknown command " + command);
 }

@@ -66,9 +66,7 @@ bool hasChains(const Scene& scene) {
                      [](const sim::BodyParams& b) { return b.shape == sim::BodyShape::Chain; });
 }
 
-render::CurveSet chainTubes(const Scene& scene, const ParticleFrame& frame) {
-  render::CurveSet set;
-  set.material = scene.render.chainMaterial;
+std::vector<ChainOrder> chainOrder(const Scene& scene, const ParticleFrame& frame) {
   // Body b's particles have kind b + 1. sim::BodySystem gives each body's particles consecutive
   // ids in the order sim/body_shapes.cpp makes its points, and a chain's points go from its start
   // (where it hangs) to its end, so ordering a chain's particles by id gives the chain order.
@@ -79,17 +77,31 @@ render::CurveSet chainTubes(const Scene& scene, const ParticleFrame& frame) {
     if (kind >= 1 && size_t(kind) <= byBody.size() && scene.sim.bodies[size_t(kind - 1)].shape == sim::BodyShape::Chain)
       byBody[size_t(kind - 1)].emplace_back(frame.id[i], i);
   }
+  std::vector<ChainOrder> chains;
+  for (size_t b = 0; b < byBody.size(); ++b) {
+    if (byBody[b].empty()) continue;
+    std::sort(byBody[b].begin(), byBody[b].end());
+    ChainOrder chain;
+    chain.kind = int(b + 1);
+    for (const auto& [id, i] : byBody[b]) chain.indices.push_back(i);
+    chains.push_back(std::move(chain));
+  }
+  return chains;
+}
+
+render::CurveSet chainTubes(const Scene& scene, const ParticleFrame& frame) {
+  render::CurveSet set;
+  set.material = scene.render.chainMaterial;
   const ChainRadiusParams& radius = scene.render.chainRadius;
-  for (std::vector<std::pair<int64_t, size_t>>& chain : byBody) {
-    if (chain.size() < 2) continue;
-    std::sort(chain.begin(), chain.end());
+  for (const ChainOrder& chain : chainOrder(scene, frame)) {
+    if (chain.indices.size() < 2) continue;
     render::Tube tube;
-    for (size_t k = 0; k < chain.size(); ++k) {
-      const size_t i = chain[k].second;
+    for (size_t k = 0; k < chain.indices.size(); ++k) {
+      const size_t i = chain.indices[k];
       const Eigen::Vector3f p(frame.px[i], frame.py[i], frame.pz[i]);
       if (!tube.points.empty() && p == tube.points.back()) continue;
       tube.points.push_back(p);
-      tube.radii.push_back(radius.root + (radius.tip - radius.root) * float(k) / float(chain.size() - 1));
+      tube.radii.push_back(radius.root + (radius.tip - radius.root) * float(k) / float(chain.indices.size() - 1));
     }
     if (tube.points.size() >= 2) set.tubes.push_back(std::move(tube));
   }

@@ -9,6 +9,7 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace kurage::pipeline {
 
@@ -26,6 +27,15 @@ render::SphereSet particleSpheres(const Scene& scene, const ParticleFrame& frame
 
 // Whether the scene has chain bodies (drawn as tubes from the particle caches).
 bool hasChains(const Scene& scene);
+
+// A chain body's particles in chain order: indices into the frame, from the particle it hangs by
+// to its tip (by id: sim::BodySystem numbers a chain's particles in that order). Chains with no
+// particle in the frame are left out.
+struct ChainOrder {
+  int kind = 0;
+  std::vector<size_t> indices;
+};
+std::vector<ChainOrder> chainOrder(const Scene& scene, const ParticleFrame& frame);
 
 // One tube per chain body with at least two particles (render::Tube: a uniform cubic B-spline
 // with the particles as control points, passing through the first and last), in chain order, the

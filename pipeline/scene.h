@@ -17,9 +17,18 @@
 
 namespace kurage::pipeline {
 
+// Which exports the run makes after its surfaces (pipeline/io/exports.h says what each is).
+struct ExportSelection {
+  bool meshPly = false, meshObj = false, particlesVtp = false, particlesPly = false, chainsVtp = false,
+       chainsObj = false;
+  bool any() const { return meshPly || meshObj || particlesVtp || particlesPly || chainsVtp || chainsObj; }
+  bool needsSurfaces() const { return meshPly || meshObj; }
+};
+
 struct OutputParams {
   float duration = 4.0f;  // s of simulated time
   float fps = 24.0f;      // frames per second; frame f is at time f / fps, f = 0 .. frameCount()-1
+  ExportSelection exports;
 
   int frameCount() const;
   double frameTime(int frame) const { return frame / double(fps); }

@@ -219,9 +219,21 @@ void describe(V& v, sim::TimeStepParams& p) {
 }
 
 template <class V>
+void describe(V& v, ExportSelection& p) {
+  v.value("mesh_ply", p.meshPly, {"", "each surface (fluid, each body) as binary PLY with normals: exports/GRID/NNNN.ply"});
+  v.value("mesh_obj", p.meshObj, {"", "each surface as Wavefront OBJ: exports/GRID/NNNN.obj"});
+  v.value("particles_vtp", p.particlesVtp,
+          {"", "particles as VTK XML PolyData with every attribute: exports/particles/NNNN.vtp and particles.pvd"});
+  v.value("particles_ply", p.particlesPly, {"", "particles as binary PLY with every attribute: exports/particles/NNNN.ply"});
+  v.value("chains_vtp", p.chainsVtp, {"", "chains (oral arms) as VTK polylines: exports/chains/NNNN.vtp and chains.pvd"});
+  v.value("chains_obj", p.chainsObj, {"", "chains as OBJ polylines: exports/chains/NNNN.obj"});
+}
+
+template <class V>
 void describe(V& v, OutputParams& p) {
   v.value("duration", p.duration, {"s", "simulated time; frames from t = 0 to t = duration", positive(), true});
   v.value("fps", p.fps, {"1/s", "output frames per second of simulated time", {0.0, 1000.0, true, false}});
+  v.object("exports", p.exports, {"", "files for other tools, made per frame after the surfaces (kurage export)"});
 }
 
 template <class V>

@@ -1,6 +1,7 @@
 #include "pipeline/stages.h"
 
 #include "pipeline/files.h"
+#include "pipeline/io/exports.h"
 #include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
@@ -406,6 +407,14 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
                              {"total_rays", totalRays},
                              {"trace_seconds", traceSeconds},
                              {"total_mrays_per_s", traceSeconds > 0.0 ? double(totalRays) / traceSeconds * 1e-6 : 0.0}});
+  record.save();
+}
+
+void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
+  const auto [first, last] = frameRange(scene, options);
+  const auto start = std::chrono::steady_clock::now();
+  exportFrames(scene, scene.output.exports, options.outDir, first, last);
+  record.setStage("export", {{"frames", last - first + 1}, {"seconds", secondsSince(start)}});
   record.save();
 }
 

@@ -3,6 +3,7 @@
 //   sim      scene               -> OUT/particles/NNNN.vdb  (particle caches)
 //   surface  OUT/particles/*.vdb -> OUT/surfaces/NNNN.vdb   (metaball level sets per material)
 //   render   OUT/surfaces/*.vdb  -> OUT/frames/NNNN.png     (and OUT/particles/*.vdb for chains)
+//   export   both                -> OUT/exports/...         (output.exports: PLY, OBJ, VTP)
 // and OUT/run.json records the parameters in effect, library versions and stage timings.
 #pragma once
 
@@ -51,6 +52,8 @@ nlohmann::json versionInfo();
 void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& record);
+// The scene's output.exports (pipeline/io/exports.h) from OUT/particles and OUT/surfaces.
+void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 
 // Pieces of the stages, for tests and tools.
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
