@@ -1,5 +1,6 @@
 // kurage study STUDY.json -o OUT: what accuracy costs in time (pipeline/study.h).
 #include "pipeline/cli.h"
+#include "pipeline/files.h"
 #include "pipeline/study.h"
 
 #include <cstdio>
@@ -11,7 +12,8 @@ int commandStudy(std::vector<std::string> rawArgs) {
   if (args.flag({"-h", "--help"})) {
     std::printf(
         "usage: kurage study STUDY.json -o OUT [--threads N] [--quiet]\n"
-        "       kurage study STUDY.json --check\n\n"
+        "       kurage study STUDY.json --check\n"
+        "       kurage study STUDY.json --replot CSV -o FIGURE.png\n\n"
         "Runs a sweep: the study's base scene with every combination of its knob values, each run's\n"
         "error against a reference and its wall time per stage. Writes OUT/study.csv (one row per\n"
         "run), OUT/study.png (error against time, points labelled with the knob values) and\n"
@@ -21,6 +23,8 @@ int commandStudy(std::vector<std::string> rawArgs) {
         "scenes/studies/, their results in docs/accuracy/ (docs/ACCURACY.md).\n\n"
         "  -o, --output OUT   output folder (created if missing)\n"
         "  --check            validate the study and every scene it makes, run nothing\n"
+        "  --replot CSV       redraw the figure of a study.csv made by this study (FIGURE.png, .svg,\n"
+        "                     .pdf and the gnuplot script FIGURE.gp), run nothing\n"
         "  --threads N        worker threads (default: all cores)\n"
         "  --quiet            no line per run on stderr\n"
         "  -h, --help         this help\n");
@@ -28,6 +32,7 @@ int commandStudy(std::vector<std::string> rawArgs) {
   }
   StudyOptions options;
   const bool checkOnly = args.flag({"--check"});
+  const std::optional<std::string> replot = args.option({"--replot"});
   if (auto out = args.option({"-o", "--output"})) options.outDir = *out;
   else if (!checkOnly) args.fail("missing -o OUT");
   if (auto t = args.intOption({"--threads"}, 1, 1024)) options.threads = *t;
@@ -35,6 +40,12 @@ int commandStudy(std::vector<std::string> rawArgs) {
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one STUDY file");
   const Study study = loadStudy(positional[0]);
+  if (replot) {
+    const std::vector<StudyRow> rows = studyRowsFromCsv(study, readText(*replot), *replot);
+    writeStudyPlot(study, rows, options.outDir);
+    std::printf("figure: %s (and .svg, .pdf, .gp)\n", options.outDir.string().c_str());
+    return 0;
+  }
   if (checkOnly) {
     size_t runs = 1;
     for (const StudyKnob& k : study.knobs) runs *= knobSettings(k).size();

@@ -7,7 +7,7 @@
 #include "pipeline/progress.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/sim_frame.h"
-#include "render/plot.h"
+#include "pipeline/studies/plot.h"
 #include "render/tracer.h"
 #include "sim/simulation.h"
 
@@ -138,13 +138,13 @@ public:
   // The paper's Fig. 3: the muscles' force against time, with each body's measured depth below
   // the free surface added.
   void writePlot(const fs::path& file) const {
-    render::Plot plot;
+    Plot plot;
     plot.title = scene_.name + ": muscle force and body depth";
     plot.x.label = "time (s)";
     plot.y.label = "depth below the surface (m)";
     plot.y2.label = "force per spring (N)";
     for (size_t b = 0; b < scene_.sim.bodies.size(); ++b) {
-      render::PlotSeries depth;
+      PlotSeries depth;
       depth.label = scene_.sim.bodies[b].name + " depth";
       for (const Row& r : rows_) {
         depth.x.push_back(r.time);
@@ -155,7 +155,7 @@ public:
     size_t m = 0;
     for (const sim::BodyParams& b : scene_.sim.bodies)
       for (const sim::MuscleParams& muscle : b.muscles) {
-        render::PlotSeries force;
+        PlotSeries force;
         force.label = b.name + " " + muscle.name + " force";
         force.axis = 1;
         for (const Row& r : rows_) {
@@ -165,7 +165,7 @@ public:
         plot.series.push_back(std::move(force));
         ++m;
       }
-    render::writePlotPng(plot, file);
+    pipeline::writePlot(plot, file);
   }
 
 private:

@@ -5,7 +5,7 @@
 #include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/stages.h"
-#include "render/plot.h"
+#include "pipeline/studies/plot.h"
 #include "render/tracer.h"
 #include "sim/simulation.h"
 
@@ -659,106 +659,6 @@ std::string errorAxis(StudyMeasure m) {
   return "";
 }
 
-void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const fs::path& file) {
-  render::Plot plot;
-  plot.title = study.name;
-  plot.width = 900;
-  plot.height = 560;
-  if (study.measure == StudyMeasure::None) {
-    // Timing only: the seconds of each run, in the order of the runs, and of the step stages that
-    // take at least 5 % of some run.
-    plot.title = study.name + ": simulation seconds by run and stage";
-    plot.x.label = "run";
-    plot.y.label = "seconds";
-    render::PlotSeries total;
-    total.label = "total";
-    total.lines = false;
-    total.markers = true;
-    total.markerSize = 10.0;
-    std::vector<double> ys;
-    for (size_t i = 0; i < rows.size(); ++i) {
-      if (!rows[i].ok) continue;
-      total.x.push_back(double(i + 1));
-      total.y.push_back(rows[i].totalSeconds);
-      ys.push_back(rows[i].totalSeconds);
-      std::string label;
-      for (const std::string& l : rows[i].knobLabels) label += (label.empty() ? "" : ", ") + l;
-      total.pointLabels.push_back(label);
-    }
-    plot.series.push_back(std::move(total));
-    double offset = -0.12;  // stages side by side to the right of each run's total
-    for (size_t stage : stagesUsed(rows)) {
-      bool large = false;
-      for (const StudyRow& r : rows)
-        if (r.ok && stage < r.simStages.size() && r.simStages[stage] >= 0.05 * r.totalSeconds) large = true;
-      if (!large) continue;
-      render::PlotSeries s;
-      s.label = std::string(sim::stageName(sim::Stage(stage)));
-      s.lines = false;
-      s.markers = true;
-      s.markerSize = 6.0;
-      for (size_t i = 0; i < rows.size(); ++i)
-        if (rows[i].ok && stage < rows[i].simStages.size()) {
-          s.x.push_back(double(i + 1) + offset);
-          s.y.push_back(rows[i].simStages[stage]);
-          ys.push_back(rows[i].simStages[stage]);
-        }
-      plot.series.push_back(std::move(s));
-      offset -= 0.04;
-    }
-    plot.x.min = 0.0;
-    plot.x.max = double(rows.size()) + 2.0;
-    plot.y.log = wantsLog(ys);
-    render::writePlotPng(plot, file);
-    return;
-  }
-  // The title names the measure and the failed runs (not drawn), as far as the width allows.
-  size_t failed = 0;
-  for (const StudyRow& r : rows) failed += !r.ok;
-  const std::string failures = failed ? " (" + std::to_string(failed) + " failed: study.csv)" : "";
-  const int room = plot.width - 20;
-  plot.title = study.name + ": " + errorUnit(study.measure) + failures;
-  if (render::textSize(plot.title, plot.textScale).x() > room) plot.title = study.name + ": " + errorAxis(study.measure) + failures;
-  if (render::textSize(plot.title, plot.textScale).x() > room) plot.title = study.name + failures;
-  plot.x.label = std::string("seconds (") + timedStages(study.measure) + ")";
-  plot.y.label = errorAxis(study.measure);
-  std::vector<double> xs, ys;
-  for (const StudyRow& r : rows)
-    if (r.ok) {
-      xs.push_back(r.totalSeconds);
-      ys.push_back(r.error);
-    }
-  plot.x.log = wantsLog(xs);
-  plot.y.log = wantsLog(ys);
-  // One series per value of the second knob; points labelled with the first knob's value.
-  const size_t groups = study.knobs.size() > 1 ? knobSettings(study.knobs[1]).size() : 1;
-  const std::vector<KnobSetting> second = study.knobs.size() > 1 ? knobSettings(study.knobs[1]) : std::vector<KnobSetting>{};
-  for (size_t g = 0; g < groups; ++g) {
-    render::PlotSeries s;
-    s.markers = true;
-    if (study.knobs.size() > 1) s.label = study.knobs[1].name + " = " + second[g].label;
-    else s.label = study.knobs[0].name;
-    for (const StudyRow& r : rows) {
-      if (study.knobs.size() > 1 && r.knobLabels[1] != second[g].label) continue;
-      if (!r.ok) continue;
-      s.x.push_back(r.totalSeconds);
-      s.y.push_back(r.error);
-      s.pointLabels.push_back(r.knobLabels[0]);
-    }
-    plot.series.push_back(std::move(s));
-  }
-  if (!xs.empty()) {
-    render::PlotSeries line;
-    line.label = "accepted error " + shortNumber(study.errorThreshold);
-    line.colour = Eigen::Vector3f(0.5f, 0.5f, 0.5f);
-    line.lineWidth = 1.0;
-    const double lo = *std::min_element(xs.begin(), xs.end()), hi = *std::max_element(xs.begin(), xs.end());
-    line.x = {lo, hi};
-    line.y = {study.errorThreshold, study.errorThreshold};
-    plot.series.push_back(std::move(line));
-  }
-  render::writePlotPng(plot, file);
-}
 
 std::string joinLabels(const Study& study, const StudyRow& r) {
   std::string out;
@@ -858,6 +758,175 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
 }
 
 }  // namespace
+
+namespace {
+
+// One CSV record (RFC 4180 quoting, as csvField writes it).
+std::vector<std::string> csvRecord(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted) {
+      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
+      else if (c == '"') quoted = false;
+      else fields.back() += c;
+    } else if (c == '"') {
+      quoted = true;
+    } else if (c == ',') {
+      fields.emplace_back();
+    } else {
+      fields.back() += c;
+    }
+  }
+  return fields;
+}
+
+}  // namespace
+
+void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const fs::path& file) {
+  Plot plot;
+  plot.title = study.name;
+  plot.width = 900;
+  plot.height = 560;
+  if (study.measure == StudyMeasure::None) {
+    // Timing only: the seconds of each run, in the order of the runs, and of the step stages that
+    // take at least 5 % of some run.
+    plot.title = study.name + ": simulation seconds by run and stage";
+    plot.x.label = "run";
+    plot.y.label = "seconds";
+    PlotSeries total;
+    total.label = "total";
+    total.lines = false;
+    total.markers = true;
+    total.markerSize = 1.4;
+    std::vector<double> ys;
+    for (size_t i = 0; i < rows.size(); ++i) {
+      if (!rows[i].ok) continue;
+      total.x.push_back(double(i + 1));
+      total.y.push_back(rows[i].totalSeconds);
+      ys.push_back(rows[i].totalSeconds);
+      std::string label;
+      for (const std::string& l : rows[i].knobLabels) label += (label.empty() ? "" : ", ") + l;
+      total.pointLabels.push_back(label);
+    }
+    plot.series.push_back(std::move(total));
+    double offset = -0.12;  // stages side by side to the right of each run's total
+    for (size_t stage : stagesUsed(rows)) {
+      bool large = false;
+      for (const StudyRow& r : rows)
+        if (r.ok && stage < r.simStages.size() && r.simStages[stage] >= 0.05 * r.totalSeconds) large = true;
+      if (!large) continue;
+      PlotSeries s;
+      s.label = std::string(sim::stageName(sim::Stage(stage)));
+      s.lines = false;
+      s.markers = true;
+      s.markerSize = 0.8;
+      for (size_t i = 0; i < rows.size(); ++i)
+        if (rows[i].ok && stage < rows[i].simStages.size()) {
+          s.x.push_back(double(i + 1) + offset);
+          s.y.push_back(rows[i].simStages[stage]);
+          ys.push_back(rows[i].simStages[stage]);
+        }
+      plot.series.push_back(std::move(s));
+      offset -= 0.04;
+    }
+    plot.x.min = 0.0;
+    plot.x.max = double(rows.size()) + 2.0;
+    plot.y.log = wantsLog(ys);
+    if (!plot.y.log) plot.y.min = 0.0;
+    writePlot(plot, file);
+    return;
+  }
+  // The title names the measure and the failed runs (not drawn); writePlot wraps it to fit.
+  size_t failed = 0;
+  for (const StudyRow& r : rows) failed += !r.ok;
+  const std::string failures = failed ? " (" + std::to_string(failed) + " failed: study.csv)" : "";
+  plot.title = study.name + ": " + errorUnit(study.measure) + failures;
+  plot.x.label = std::string("seconds (") + timedStages(study.measure) + ")";
+  plot.y.label = errorAxis(study.measure);
+  std::vector<double> xs, ys;
+  for (const StudyRow& r : rows)
+    if (r.ok) {
+      xs.push_back(r.totalSeconds);
+      ys.push_back(r.error);
+    }
+  plot.x.log = wantsLog(xs);
+  plot.y.log = wantsLog(ys);
+  // One series per value of the second knob; points labelled with the first knob's value.
+  const size_t groups = study.knobs.size() > 1 ? knobSettings(study.knobs[1]).size() : 1;
+  const std::vector<KnobSetting> second = study.knobs.size() > 1 ? knobSettings(study.knobs[1]) : std::vector<KnobSetting>{};
+  for (size_t g = 0; g < groups; ++g) {
+    PlotSeries s;
+    s.markers = true;
+    if (study.knobs.size() > 1) s.label = study.knobs[1].name + " = " + second[g].label;
+    else s.label = study.knobs[0].name;
+    for (const StudyRow& r : rows) {
+      if (study.knobs.size() > 1 && r.knobLabels[1] != second[g].label) continue;
+      if (!r.ok) continue;
+      s.x.push_back(r.totalSeconds);
+      s.y.push_back(r.error);
+      s.pointLabels.push_back(r.knobLabels[0]);
+    }
+    plot.series.push_back(std::move(s));
+  }
+  if (!xs.empty()) {
+    PlotSeries line;
+    line.label = "accepted error " + shortNumber(study.errorThreshold);
+    line.colour = Eigen::Vector3f(0.5f, 0.5f, 0.5f);
+    line.lineWidth = 1.0;
+    const double lo = *std::min_element(xs.begin(), xs.end()), hi = *std::max_element(xs.begin(), xs.end());
+    line.x = {lo, hi};
+    line.y = {study.errorThreshold, study.errorThreshold};
+    plot.series.push_back(std::move(line));
+  }
+  writePlot(plot, file);
+}
+
+std::vector<StudyRow> studyRowsFromCsv(const Study& study, const std::string& csv, const std::string& file) {
+  std::istringstream in(csv);
+  std::string line;
+  if (!std::getline(in, line)) throw std::runtime_error(file + ": empty");
+  const std::vector<std::string> header = csvRecord(line);
+  auto column = [&](const std::string& name) -> std::optional<size_t> {
+    for (size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return i;
+    return std::nullopt;
+  };
+  for (const char* required : {"status", "error", "total_s", "sim_s", "steps", "particles", "message"})
+    if (!column(required)) throw std::runtime_error(file + ": no column '" + required + "': not a study.csv");
+  for (const StudyKnob& k : study.knobs)
+    if (!column(k.name)) throw std::runtime_error(file + ": no column '" + k.name + "' (the study's knob)");
+  const std::vector<std::string> figures = studyFigureNames(study.measure);
+  auto number = [&](const std::vector<std::string>& f, std::optional<size_t> c) {
+    return c && *c < f.size() && !f[*c].empty() ? std::stod(f[*c]) : 0.0;
+  };
+  std::vector<StudyRow> rows;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    const std::vector<std::string> f = csvRecord(line);
+    if (f.size() != header.size())
+      throw std::runtime_error(file + ": line " + std::to_string(rows.size() + 2) + " has " + std::to_string(f.size()) +
+                               " fields, the header " + std::to_string(header.size()));
+    StudyRow r;
+    for (const StudyKnob& k : study.knobs) r.knobLabels.push_back(f[*column(k.name)]);
+    r.ok = f[*column("status")] == "ok";
+    r.error = number(f, column("error"));
+    for (const std::string& name : figures) r.figures.push_back(number(f, column(name)));
+    r.simStages.assign(size_t(sim::Stage::Count), 0.0);
+    for (size_t s = 0; s < size_t(sim::Stage::Count); ++s)
+      r.simStages[s] = number(f, column("sim_" + std::string(sim::stageName(sim::Stage(s))) + "_s"));
+    r.totalSeconds = number(f, column("total_s"));
+    r.simSeconds = number(f, column("sim_s"));
+    r.surfaceSeconds = number(f, column("surface_s"));
+    r.renderSeconds = number(f, column("render_s"));
+    r.steps = uint64_t(number(f, column("steps")));
+    r.particles = size_t(number(f, column("particles")));
+    r.message = f[*column("message")];
+    rows.push_back(std::move(r));
+  }
+  return rows;
+}
 
 std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options) {
   ThreadLimit limit(options.threads);

@@ -125,6 +125,12 @@ std::vector<std::string> studyFigureNames(StudyMeasure measure);
 // Runs the study and writes OUT/study.csv, study.png and study.md. Returns the rows.
 std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options);
 
+// The rows of a study.csv that runStudy wrote for `study` (for redrawing its figure). Throws
+// std::runtime_error naming `file` when the CSV does not fit the study.
+std::vector<StudyRow> studyRowsFromCsv(const Study& study, const std::string& csv, const std::string& file);
+// The study's figure (error against time, or seconds by run) as FILE.png, .svg, .pdf and .gp.
+void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const std::filesystem::path& file);
+
 // kurage study STUDY.json -o OUT [--threads N] [--quiet]   (pipeline/cmd_study.cpp)
 int commandStudy(std::vector<std::string> args);
 

@@ -91,9 +91,34 @@ TEST(Study, TinySweepWritesRowsPlotAndSummary) {
   EXPECT_GT(steps02, 1.5 * steps04);
   const render::Image plot = render::readPng(out / "study.png");
   EXPECT_GT(plot.width(), 100);
+  for (const char* figure : {"study.svg", "study.pdf", "study.gp"}) EXPECT_TRUE(std::filesystem::exists(out / figure)) << figure;
   const std::string md = readText(out / "study.md");
   EXPECT_NE(md.find("Cheapest setting within the accepted error"), std::string::npos) << md;
   EXPECT_NE(md.find("cfl = 0.4"), std::string::npos) << md;
+}
+
+TEST(Study, FigureIsRedrawnFromItsCsv) {
+  TempDir dir;
+  const std::string file = writeStudy(dir, tinyStudy());
+  const auto out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("study " + file + " -o " + out.string() + " --threads 1", dir.path() / "log.txt"), 0);
+  // The rows read back from study.csv draw the same figure: the same gnuplot script.
+  const auto figure = dir.path() / "again.png";
+  ASSERT_EQ(test::runKurage("study " + file + " --replot " + (out / "study.csv").string() + " -o " + figure.string(),
+                            dir.path() / "replot.txt"),
+            0)
+      << readText(dir.path() / "replot.txt");
+  std::string original = readText(out / "study.gp"), redrawn = readText(dir.path() / "again.gp");
+  for (std::string* gp : {&original, &redrawn}) gp->erase(gp->find("set terminal"));
+  EXPECT_EQ(redrawn, original);
+  EXPECT_EQ(readText(dir.path() / "again.pdf").substr(0, 5), "%PDF-");
+  // A CSV of another study is refused, naming the file.
+  const auto other = dir.path() / "other.csv";
+  writeTextAtomic(other, "x,status\n1,ok\n");
+  EXPECT_EQ(test::runKurage("study " + file + " --replot " + other.string() + " -o " + figure.string(),
+                            dir.path() / "bad.txt"),
+            1);
+  EXPECT_NE(readText(dir.path() / "bad.txt").find("other.csv"), std::string::npos);
 }
 
 TEST(Study, AFailedRunIsARowWithItsMessage) {

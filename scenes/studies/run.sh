@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Runs the studies (all of scenes/studies/*.json, or those named) one after another on one
-# thread, and copies each one's study.csv, study.png and study.md to docs/accuracy/NAME.*.
+# thread, and copies each one's study.csv, its figure (study.png, .svg, .pdf and the gnuplot script
+# study.gp) and study.md to docs/accuracy/NAME.*. A figure alone is redrawn from its CSV by
+#   build/kurage study scenes/studies/NAME.json --replot docs/accuracy/NAME.csv -o docs/accuracy/NAME.png
 # Usage, from the repository root: scenes/studies/run.sh [KURAGE] [NAME ...]
 #   KURAGE defaults to build/kurage; NAME is a study file's name without .json.
 set -euo pipefail
@@ -16,5 +18,5 @@ for name in "${names[@]}"; do
   start=$(date +%s)
   "$kurage" study "scenes/studies/$name.json" -o "$out" --threads 1
   echo "$name: $(( $(date +%s) - start )) s"
-  for ext in csv png md; do cp "$out/study.$ext" "docs/accuracy/$name.$ext.tmp" && mv "docs/accuracy/$name.$ext.tmp" "docs/accuracy/$name.$ext"; done
+  for ext in csv png svg pdf gp md; do cp "$out/study.$ext" "docs/accuracy/$name.$ext.tmp" && mv "docs/accuracy/$name.$ext.tmp" "docs/accuracy/$name.$ext"; done
 done
