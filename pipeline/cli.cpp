@@ -86,6 +86,7 @@ const char* const kStageOptionsHelp =
     "                     the simulation still starts at t = 0\n"
     "  --threads N        worker threads (default: all cores)\n"
     "  --progress         show progress on stderr even when it is not a terminal\n"
+    "  --task NAME        (farm jobs) record into OUT/records/NAME.json, not OUT/run.json\n"
     "  -h, --help         this help\n";
 
 StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput) {
@@ -94,6 +95,12 @@ StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput) {
   if (auto out = args.option({"-o", "--output"})) o.stage.outDir = *out;
   else if (requireOutput) args.fail("missing -o OUT");
   if (auto t = args.intOption({"--threads"}, 1, 1024)) o.threads = *t;
+  if (auto task = args.option({"--task"})) {
+    if (task->empty() || task->find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") !=
+                             std::string::npos || task->front() == '.')
+      args.fail("--task: a plain name of letters, digits, '_', '.' and '-', got " + *task);
+    o.stage.task = *task;
+  }
   if (auto frames = args.option({"--frames"})) {
     int first = 0, last = 0;
     char tail = 0;

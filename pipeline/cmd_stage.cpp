@@ -72,7 +72,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
 
   ThreadLimit threads(options.threads);
   std::filesystem::create_directories(options.stage.outDir);
-  RunRecord record(options.stage.outDir, scene, sceneFile);
+  RunRecord record(options.stage.outDir, scene, sceneFile, options.stage.task);
   record.data()["threads"] = ThreadLimit::current();
   record.data()["quality"] = quality == Quality::Preview ? "preview" : "final";
   const bool all = name == "run";

@@ -1,6 +1,7 @@
 // kurage: scene file -> particle simulation -> metaball surfaces -> ray-traced frames.
 // Only this file decides to exit; commands and libraries report errors to their caller.
 #include "pipeline/cli.h"
+#include "pipeline/farm/farm.h"
 #include "pipeline/scene.h"
 #include "pipeline/study.h"
 #include "sim/simulation.h"
@@ -23,6 +24,7 @@ constexpr const char* kUsage =
     "  render SCENE -o OUT   frames from the level sets: OUT/frames/NNNN.png\n"
     "  preview SCENE -o OUT  particles as spheres (OpenGL): OUT/preview/NNNN.png, preview.mp4\n"
     "  export OUT --format F files for Blender, ParaView, mesh tools: OUT/exports/ (PLY, OBJ, VTP)\n"
+    "  farm SCENE -o OUT     Slurm job scripts (sim, a job array of frames, merge); --submit; farm status OUT\n"
     "  still SCENE --time T -o FILE.png   one path-traced frame at any time and resolution\n"
     "  study STUDY -o OUT    accuracy against cost: a sweep of scene knobs, OUT/study.csv, .png, .md\n"
     "  check SCENE           validate a scene file and exit\n"
@@ -51,6 +53,7 @@ int dispatch(const std::string& command, std::vector<std::string> args) {
   if (command == "still") return commandStill(std::move(args));
   if (command == "preview") return commandPreview(std::move(args));
   if (command == "export") return commandExport(std::move(args));
+  if (command == "farm") return commandFarm(std::move(args));
   if (command == "study") return commandStudy(std::move(args));
   throw UsageError("unknown command " + command);
 }

@@ -208,8 +208,9 @@ nlohmann::json versionInfo() {
                                 std::to_string(NLOHMANN_JSON_VERSION_PATCH)}};
 }
 
-RunRecord::RunRecord(const fs::path& outDir, const Scene& scene, const std::string& sceneFile)
-    : path_(outDir / "run.json") {
+RunRecord::RunRecord(const fs::path& outDir, const Scene& scene, const std::string& sceneFile, const std::string& task)
+    : path_(task.empty() ? outDir / "run.json" : outDir / "records" / (task + ".json")) {
+  if (!task.empty()) fs::create_directories(path_.parent_path());
   if (fs::exists(path_)) {
     try {
       data_ = nlohmann::json::parse(readText(path_));

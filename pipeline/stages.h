@@ -27,6 +27,9 @@ struct StageOptions {
   int firstFrame = 0;
   int lastFrame = -1;  // -1: the scene's last frame
   bool progress = false;
+  // A farm task (pipeline/farm/farm.h): its record goes to OUT/records/TASK.json instead of
+  // OUT/run.json, which `kurage farm merge` assembles from the records. Empty: a local run.
+  std::string task;
 };
 
 // The frames [first, last] a stage works on, checked against the scene. Throws
@@ -36,7 +39,9 @@ std::pair<int, int> frameRange(const Scene& scene, const StageOptions& options);
 // OUT/run.json, read if it exists (so single-stage commands add to it) and rewritten atomically.
 class RunRecord {
 public:
-  RunRecord(const std::filesystem::path& outDir, const Scene& scene, const std::string& sceneFile);
+  // OUT/run.json, or OUT/records/TASK.json for a farm task (`task` not empty).
+  RunRecord(const std::filesystem::path& outDir, const Scene& scene, const std::string& sceneFile,
+            const std::string& task = "");
   nlohmann::json& data() { return data_; }
   void setStage(const std::string& name, nlohmann::json stage);
   void save() const;

@@ -1,0 +1,149 @@
+#include "pipeline/farm/farm.h"
+
+#include "pipeline/files.h"
+#include "pipeline/param_visitor.h"
+
+#include <algorithm>
+#include <sstream>
+
+namespace kurage::pipeline {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// A word for bash: single-quoted, with ' written as '\''.
+std::string shellWord(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string header(const FarmPlan& plan, const std::string& stage, const std::string& log) {
+  std::ostringstream s;
+  s << "#!/bin/bash\n"
+    << "# kurage farm: " << stage << " of " << plan.sceneFile.string() << " into " << plan.outDir.string() << "\n"
+    << "#SBATCH --job-name=kurage-" << plan.sceneName << "-" << stage << "\n"
+    << "#SBATCH --output=" << (plan.outDir / "farm/logs" / log).string() << "\n";
+  if (!plan.partition.empty()) s << "#SBATCH --partition=" << plan.partition << "\n";
+  if (!plan.timeLimit.empty()) s << "#SBATCH --time=" << plan.timeLimit << "\n";
+  for (const std::string& a : plan.sbatchArgs) s << "#SBATCH " << a << "\n";
+  s << "set -euo pipefail\n";
+  return s.str();
+}
+
+std::string common(const FarmPlan& plan) {
+  std::string s = " ";
+  s += shellWord(plan.sceneFile.string());
+  s += " -o ";
+  s += shellWord(plan.outDir.string());
+  s += " --quality ";
+  s += plan.quality;
+  if (plan.threads > 0) {
+    s += " --threads ";
+    s += std::to_string(plan.threads);
+  }
+  return s;
+}
+
+}  // namespace
+
+std::vector<FarmChunk> frameChunks(int first, int last, int framesPerTask, int maxTasks) {
+  const int frames = last - first + 1;
+  int size = std::max(1, framesPerTask);
+  if (maxTasks > 0 && (frames + size - 1) / size > maxTasks) size = (frames + maxTasks - 1) / maxTasks;
+  std::vector<FarmChunk> chunks;
+  for (int f = first; f <= last; f += size) chunks.push_back({f, std::min(last, f + size - 1)});
+  return chunks;
+}
+
+std::string simScript(const FarmPlan& plan) {
+  return header(plan, "sim", "sim-%j.out") + "exec " + shellWord(plan.kurage.string()) + " sim" + common(plan) +
+         " --frames " + std::to_string(plan.first) + "-" + std::to_string(plan.last) + " --task sim\n";
+}
+
+std::string framesScript(const FarmPlan& plan) {
+  std::string s = header(plan, "frames", "frames-%A_%a.out");
+  s += "# The array index picks a chunk; submitted as --array=I,J,... (the chunks with work left).\nchunks=(";
+  for (size_t i = 0; i < plan.chunks.size(); ++i) {
+    s += i ? " " : "";
+    s += std::to_string(plan.chunks[i].first) + "-" + std::to_string(plan.chunks[i].last);
+  }
+  s += ")\nrange=${chunks[$SLURM_ARRAY_TASK_ID]}\n";
+  const std::string kurage = shellWord(plan.kurage.string());
+  s += kurage + " surface" + common(plan) + " --frames \"$range\" --task \"surface-$range\"\n";
+  s += kurage + " render" + common(plan) + " --frames \"$range\" --no-video --task \"render-$range\"\n";
+  return s;
+}
+
+std::string mergeScript(const FarmPlan& plan) {
+  return header(plan, "merge", "merge-%j.out") + "exec " + shellWord(plan.kurage.string()) + " farm merge " +
+         shellWord(plan.outDir.string()) + "\n";
+}
+
+nlohmann::json planToJson(const FarmPlan& plan) {
+  nlohmann::json chunks = nlohmann::json::array();
+  for (const FarmChunk& c : plan.chunks) chunks.push_back({c.first, c.last});
+  return {{"kurage", plan.kurage.string()},   {"scene_file", plan.sceneFile.string()},
+          {"out", plan.outDir.string()},      {"scene_name", plan.sceneName},
+          {"quality", plan.quality},          {"frames", {plan.first, plan.last}},
+          {"chunks", chunks},                 {"threads", plan.threads},
+          {"partition", plan.partition},      {"time_limit", plan.timeLimit},
+          {"sbatch_args", plan.sbatchArgs},   {"fps", plan.fps}};
+}
+
+FarmPlan planFromJson(const nlohmann::json& j, const std::string& file) {
+  try {
+    FarmPlan p;
+    p.kurage = j.at("kurage").get<std::string>();
+    p.sceneFile = j.at("scene_file").get<std::string>();
+    p.outDir = j.at("out").get<std::string>();
+    p.sceneName = j.at("scene_name").get<std::string>();
+    p.quality = j.at("quality").get<std::string>();
+    p.first = j.at("frames").at(0).get<int>();
+    p.last = j.at("frames").at(1).get<int>();
+    for (const auto& c : j.at("chunks")) p.chunks.push_back({c.at(0).get<int>(), c.at(1).get<int>()});
+    p.threads = j.at("threads").get<int>();
+    p.partition = j.at("partition").get<std::string>();
+    p.timeLimit = j.at("time_limit").get<std::string>();
+    p.sbatchArgs = j.at("sbatch_args").get<std::vector<std::string>>();
+    p.fps = j.at("fps").get<double>();
+    return p;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(file + ": not a kurage farm plan: " + e.what());
+  }
+}
+
+FarmProgress farmProgress(const FarmPlan& plan) {
+  FarmProgress p;
+  for (int f = plan.first; f <= plan.last; ++f) {
+    if (!fs::exists(frameFile(plan.outDir / "particles", f, "vdb"))) p.missingCaches.push_back(f);
+    if (!fs::exists(frameFile(plan.outDir / "surfaces", f, "vdb"))) p.missingSurfaces.push_back(f);
+    if (!fs::exists(frameFile(plan.outDir / "frames", f, "png"))) p.missingFrames.push_back(f);
+  }
+  for (size_t i = 0; i < plan.chunks.size(); ++i)
+    for (int f : p.missingFrames)
+      if (f >= plan.chunks[i].first && f <= plan.chunks[i].last) {
+        p.chunksToRun.push_back(int(i));
+        break;
+      }
+  return p;
+}
+
+std::string frameList(const std::vector<int>& frames) {
+  std::string out;
+  for (size_t i = 0; i < frames.size();) {
+    size_t j = i;
+    while (j + 1 < frames.size() && frames[j + 1] == frames[j] + 1) ++j;
+    out += out.empty() ? "" : ", ";
+    out += std::to_string(frames[i]);
+    if (j > i) {
+      out += '-';
+      out += std::to_string(frames[j]);
+    }
+    i = j + 1;
+  }
+  return out;
+}
+
+}  // namespace kurage::pipeline

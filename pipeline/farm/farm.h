@@ -1,0 +1,70 @@
+// Frames on a cluster: a kurage run handed to Slurm as job scripts (sbatch), with the same
+// results as `kurage run` (the tasks run the same stage commands on disjoint frame ranges).
+//
+//   OUT/farm/sim.sbatch     one job: `kurage sim` over the frames (a simulation is sequential in time)
+//   OUT/farm/frames.sbatch  a job array over frame chunks: `kurage surface` then `kurage render`
+//                           for the task's chunk, after the simulation (afterok)
+//   OUT/farm/merge.sbatch   one job after the array (afterok): `kurage farm merge OUT` merges the
+//                           tasks' records (OUT/records/*.json) into OUT/run.json and encodes the video
+//   OUT/farm/plan.json      the plan: scene, binary, quality, frames and chunks
+//   OUT/farm/jobs.json      the job ids of the last submission (kurage farm --submit)
+// Dependencies use --kill-on-invalid-dep=yes: when a job fails, the jobs after it are cancelled
+// instead of pending forever. Each task writes its own record and takes no lock on OUT, so tasks
+// never edit one file together. OUT must be on a file system every node sees (shared), at the
+// same absolute path, as must the scene file and the kurage binary.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace kurage::pipeline {
+
+struct FarmChunk {
+  int first = 0, last = 0;  // frames, inclusive
+};
+
+struct FarmPlan {
+  std::filesystem::path kurage;     // absolute path of the kurage binary the jobs run
+  std::filesystem::path sceneFile;  // absolute
+  std::filesystem::path outDir;     // absolute
+  std::string sceneName;
+  std::string quality = "final";
+  int first = 0, last = 0;
+  std::vector<FarmChunk> chunks;
+  int threads = 0;  // --threads for every task (0: all the cores Slurm gives it)
+  std::string partition, timeLimit;
+  std::vector<std::string> sbatchArgs;  // extra #SBATCH lines, e.g. "--mem=4G"
+  double fps = 24.0;
+};
+
+// Frames [first, last] cut into chunks of `framesPerTask` (>= 1), or into at most `maxTasks`
+// chunks of equal size (but the last) when that is fewer.
+std::vector<FarmChunk> frameChunks(int first, int last, int framesPerTask, int maxTasks);
+
+// The job scripts (bash with #SBATCH lines).
+std::string simScript(const FarmPlan& plan);
+std::string framesScript(const FarmPlan& plan);
+std::string mergeScript(const FarmPlan& plan);
+
+nlohmann::json planToJson(const FarmPlan& plan);
+FarmPlan planFromJson(const nlohmann::json& json, const std::string& file);
+
+// What is on disk for the plan's frames: which caches and PNG frames are missing, and so which
+// chunks still have work (indices into plan.chunks).
+struct FarmProgress {
+  std::vector<int> missingCaches, missingSurfaces, missingFrames;
+  std::vector<int> chunksToRun;
+  bool simNeeded() const { return !missingCaches.empty(); }
+};
+FarmProgress farmProgress(const FarmPlan& plan);
+
+// "3-5, 9" style list of frame numbers.
+std::string frameList(const std::vector<int>& frames);
+
+// kurage farm SCENE -o OUT ... | farm status OUT | farm merge OUT   (pipeline/farm/cmd_farm.cpp)
+int commandFarm(std::vector<std::string> args);
+
+}  // namespace kurage::pipeline
