@@ -1,7 +1,7 @@
 // kurage run | sim | surface | render SCENE -o OUT
 #include "pipeline/cli.h"
 #include "pipeline/scene.h"
-#include "pipeline/video.h"
+#include "pipeline/io/video.h"
 #include "sim/simulation.h"
 
 #include <cstdio>

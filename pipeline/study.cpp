@@ -1,7 +1,8 @@
 #include "pipeline/study.h"
 
 #include "pipeline/cli.h"
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/image_file.h"
 #include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/stages.h"
@@ -709,7 +710,7 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
     plot.x.min = 0.0;
     plot.x.max = double(rows.size()) + 2.0;
     plot.y.log = wantsLog(ys);
-    render::writePlotPng(plot, file);
+    writePlotPng(plot, file);
     return;
   }
   // The title names the measure and the failed runs (not drawn), as far as the width allows.
@@ -757,7 +758,7 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
     line.y = {study.errorThreshold, study.errorThreshold};
     plot.series.push_back(std::move(line));
   }
-  render::writePlotPng(plot, file);
+  writePlotPng(plot, file);
 }
 
 std::string joinLabels(const Study& study, const StudyRow& r) {

@@ -552,7 +552,6 @@ Image renderPlot(const Plot& plot) {
   return image;
 }
 
-void writePlotPng(const Plot& plot, const std::filesystem::path& path) { writePng(renderPlot(plot), path); }
 
 std::vector<double> niceTicks(double lo, double hi, int target) {
   if (!std::isfinite(lo) || !std::isfinite(hi) || target < 1) return {};

@@ -89,9 +89,6 @@ PlotFrame plotFrame(const Plot& plot);
 // Renders the plot (exceptions as plotFrame).
 Image renderPlot(const Plot& plot);
 
-// Renders and writes an 8-bit PNG, atomically (writePng).
-void writePlotPng(const Plot& plot, const std::filesystem::path& path);
-
 // Ticks at multiples of a "nice" step (1, 2 or 5 x 10^k) inside [lo, hi]: about `target`
 // intervals between lo and hi, and at least two ticks when lo < hi. Values are the nearest
 // doubles to the decimal numbers (0.3, not 0.30000000000000004). Empty for non-finite input or

@@ -2,6 +2,7 @@
 // lengths; ticks are nice numbers and labelled with the digits they need; the second y axis has
 // its own scale; text draws dark pixels inside its box only; PNGs round-trip; bad data and empty
 // plots still give a framed image.
+#include "pipeline/io/image_file.h"
 #include "render/plot.h"
 
 #include "test_util.h"
@@ -265,7 +266,7 @@ TEST(Plot, PngRoundTrips) {
   plot.series[0].markers = true;
   plot.series[0].pointLabels = {"a", "b", "c"};
   const Image image = renderPlot(plot);
-  writePlotPng(plot, dir.path() / "plot.png");
+  kurage::pipeline::writePlotPng(plot, dir.path() / "plot.png");
   const Image read = readPng(dir.path() / "plot.png");
   CompareOptions exact;
   exact.pixelThreshold = 0.6f / 255.0f;
