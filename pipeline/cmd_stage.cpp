@@ -1,5 +1,7 @@
 // kurage run | sim | surface | render SCENE -o OUT
 #include "pipeline/cli.h"
+#include "pipeline/interrupt.h"
+#include "pipeline/io/run_lock.h"
 #include "pipeline/scene.h"
 #include "pipeline/io/video.h"
 #include "sim/simulation.h"
@@ -70,22 +72,41 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   checkFixedStep(scene, sceneFile, strict);
 
   ThreadLimit threads(options.threads);
-  std::filesystem::create_directories(options.stage.outDir);
+  // One run per OUT (held until the process ends); SIGINT/SIGTERM stop at the next frame.
+  const RunLock lock(options.stage.outDir, name + " " + sceneFile);
+  installInterruptHandlers();
   RunRecord record(options.stage.outDir, scene, sceneFile);
   record.data()["threads"] = ThreadLimit::current();
   record.data()["quality"] = quality == Quality::Preview ? "preview" : "final";
-  const bool all = name == "run";
-  if (all || name == "sim") runSimStage(scene, options.stage, record);
-  if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
-  if (all || name == "render") runRenderStage(scene, options.stage, record);
-  const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
-  const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
-  std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());
-  if (video) {
-    const auto [first, last] = frameRange(scene, options.stage);
-    encodeVideoAndReport(options.stage.outDir / "frames", first, last - first + 1, scene.output.fps,
-                         options.stage.outDir / (scene.name + ".mp4"));
+  record.data()["command"] = name;
+  record.data()["status"] = "running";
+  record.save();
+  try {
+    const bool all = name == "run";
+    if (all || name == "sim") runSimStage(scene, options.stage, record);
+    if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
+    if (all || name == "render") runRenderStage(scene, options.stage, record);
+    const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
+    const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
+    std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());
+    if (video) {
+      const auto [first, last] = frameRange(scene, options.stage);
+      encodeVideoAndReport(options.stage.outDir / "frames", first, last - first + 1, scene.output.fps,
+                           options.stage.outDir / (scene.name + ".mp4"));
+    }
+  } catch (const std::exception& e) {
+    // run.json says how the run ended; a failure to record that must not hide the first error.
+    record.data()["status"] = dynamic_cast<const Interrupted*>(&e) ? "interrupted" : "failed";
+    record.data()["error"] = e.what();
+    try {
+      record.save();
+    } catch (const std::exception&) {
+    }
+    throw;
   }
+  record.data()["status"] = "complete";
+  record.data().erase("error");
+  record.save();
   return 0;
 }
 

@@ -1,6 +1,7 @@
 // kurage: scene file -> particle simulation -> metaball surfaces -> ray-traced frames.
 // Only this file decides to exit; commands and libraries report errors to their caller.
 #include "pipeline/cli.h"
+#include "pipeline/interrupt.h"
 #include "pipeline/scene.h"
 #include "pipeline/study.h"
 #include "sim/simulation.h"
@@ -65,6 +66,9 @@ int main(int argc, char** argv) {
   } catch (const SceneError& e) {
     std::fprintf(stderr, "kurage: scene error: %s\n", e.what());
     return 2;
+  } catch (const Interrupted& e) {
+    std::fprintf(stderr, "kurage: %s\n", e.what());
+    return 128 + e.signal();
   } catch (const kurage::sim::SimulationError& e) {
     std::fprintf(stderr, "kurage: simulation stopped: %s\n", e.what());
     return 1;

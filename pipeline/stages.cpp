@@ -1,5 +1,6 @@
 #include "pipeline/stages.h"
 
+#include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/image_file.h"
 #include "pipeline/io/stamp.h"
@@ -270,6 +271,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   BodyTrack track(scene);
   Progress progress("sim", last + 1, options.progress);
   for (int f = 0; f <= last; ++f) {
+    throwIfInterrupted();
     simulation.advanceTo(scene.output.frameTime(f));
     track.record(simulation);
     if (f >= first) {
@@ -377,6 +379,7 @@ void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord&
   const FileStamp input{"sim", stageHash(scene, "sim"), -1};
   const std::string surfaceHash = stageHash(scene, "surface");
   for (int f = first; f <= last; ++f) {
+    throwIfInterrupted();
     const std::map<std::string, render::LevelSet> surfaces =
         surfaceFrame(scene, readParticleFrame(frameFile(inFolder, f, "vdb"), {input.stage, input.sceneHash, f}));
     std::map<std::string, const render::LevelSet*> grids;
@@ -426,6 +429,7 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
   uint64_t primaryRays = 0, totalRays = 0;
   double traceSeconds = 0.0;
   for (int f = first; f <= last; ++f) {
+    throwIfInterrupted();
     render::RenderStats stats;
     std::vector<render::CurveSet> curves;
     if (chains)

@@ -6,6 +6,7 @@
 //    surface files are errors naming the file, never a crash or wrong data.
 #include "pipeline/io/files.h"
 #include "pipeline/io/image_file.h"
+#include "pipeline/io/run_lock.h"
 #include "pipeline/io/stamp.h"
 #include "pipeline/io/surface_file.h"
 #include "pipeline/io/video.h"
@@ -13,8 +14,13 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <thread>
 
 #include <csignal>
+#include <fcntl.h>
 #include <fstream>
 #include <random>
 #include <set>
@@ -166,15 +172,16 @@ TEST(FullDisk, EveryStageFailsCleanly) {
   const fs::path out = dir.path() / "out";
   const fs::path log = dir.path() / "log.txt";
   const std::string scene = kTinyScene.string() + " -o " + out.string() + " --threads 2 ";
-  // sim: the caches are ~11 KB each.
+  // sim: the caches are ~11 KB each (run.json, written first, ~6 KB).
   expectCleanFailure(runKurageLimited("sim " + scene, 8, log), log, "particles/0000.vdb", out);
   EXPECT_FALSE(fs::exists(out / "particles/0000.vdb"));
   ASSERT_EQ(test::runKurage("sim " + scene, log), 0) << readText(log);
   // surface: ~170 KB each.
   expectCleanFailure(runKurageLimited("surface " + scene, 64, log), log, "surfaces/0000.vdb", out);
   ASSERT_EQ(test::runKurage("surface " + scene, log), 0) << readText(log);
-  // render: ~7 KB frames.
-  expectCleanFailure(runKurageLimited("render --no-video " + scene, 4, log), log, "frames/0000.png", out);
+  // render: frames of 256 x 192 are over 16 KB (run.json, written first, is ~6 KB).
+  expectCleanFailure(runKurageLimited("render --no-video --width 256 --height 192 --spp 1 " + scene, 16, log), log,
+                     "frames/0000.png", out);
   EXPECT_FALSE(fs::exists(out / "frames/0000.png"));
 }
 
@@ -331,6 +338,59 @@ TEST(FilesCannotLie, StagesRefuseAnotherScenesFiles) {
                             log),
             0)
       << readText(log);
+}
+
+// ---- one run per OUT, clean interruption ------------------------------------------------------
+
+TEST(RunLock, ASecondRunIntoTheSameFolderIsRefusedNamingTheHolder) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const fs::path log = dir.path() / "log.txt";
+  {
+    const RunLock held(out, "test");
+    EXPECT_THROW(RunLock(out, "again"), IoError);  // even within one process (a new open file)
+    EXPECT_EQ(test::runKurage("sim " + kTinyScene.string() + " -o " + out.string(), log), 1) << readText(log);
+    const std::string text = readText(log);
+    EXPECT_NE(text.find("another kurage run"), std::string::npos) << text;
+    EXPECT_NE(text.find("pid " + std::to_string(::getpid())), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(out / "particles")) << "the refused run wrote nothing";
+  }
+  // Released with its holder: the run goes ahead.
+  EXPECT_EQ(test::runKurage("sim " + kTinyScene.string() + " -o " + out.string(), log), 0) << readText(log);
+}
+
+TEST(Interrupt, SigintStopsTheRunAndRunJsonSaysInterrupted) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const fs::path log = dir.path() / "log.txt";
+  const std::string kurage = (test::binaryDir() / "kurage").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    ::execl(kurage.c_str(), kurage.c_str(), "run", kTinyScene.c_str(), "-o", out.c_str(), "--threads", "2", "--width",
+            "320", "--height", "240", "--spp", "64", "--no-video", static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  // Wait for the first frame, then interrupt: the remaining four take seconds.
+  const auto start = std::chrono::steady_clock::now();
+  while (!fs::exists(out / "frames/0000.png") && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const std::string text = readText(log);
+  ASSERT_TRUE(WIFEXITED(status)) << text;
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGINT) << text;
+  EXPECT_NE(text.find("interrupted by SIGINT"), std::string::npos) << text;
+  const nlohmann::json run = nlohmann::json::parse(readText(out / "run.json"));
+  EXPECT_EQ(run["status"], "interrupted");
+  EXPECT_FALSE(fs::exists(out / "frames/0004.png"));
+  EXPECT_TRUE(temporariesIn(out).empty());
+  // A complete run says so.
+  ASSERT_EQ(test::runKurage("sim " + kTinyScene.string() + " -o " + out.string(), log), 0) << readText(log);
+  EXPECT_EQ(nlohmann::json::parse(readText(out / "run.json"))["status"], "complete");
 }
 
 }  // namespace
