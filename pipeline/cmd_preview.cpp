@@ -84,8 +84,8 @@ int commandPreview(std::vector<std::string> rawArgs) {
   if (positional.size() != 1) args.fail("expected one SCENE");
   const std::string& sceneFile = positional[0];
 
-  const Scene scene = loadScene(sceneFile);
-  const auto [first, last] = frameRange(scene, options.stage);
+  const Scene scene = loadScene(sceneFile, {options.stage.force});
+  const auto [first, last] = checkedFrameRange(args, scene, options.stage);
   const fs::path inFolder = options.stage.outDir / "particles";
   for (int f = first; f <= last; ++f) {
     const fs::path file = frameFile(inFolder, f, "vdb");

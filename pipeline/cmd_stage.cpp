@@ -62,13 +62,13 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   const std::string& sceneFile = positional[0];
 
   // Everything is validated before the output folder is touched.
-  Scene scene = loadScene(sceneFile);
+  Scene scene = loadScene(sceneFile, {options.stage.force});
   applyQuality(scene, quality);
   if (width) scene.render.settings.width = *width;
   if (height) scene.render.settings.height = *height;
   if (spp) scene.render.settings.samplesPerPixel = *spp;
   if (depth) scene.render.settings.maxDepth = *depth;
-  frameRange(scene, options.stage);
+  checkedFrameRange(args, scene, options.stage);
   checkFixedStep(scene, sceneFile, strict);
 
   ThreadLimit threads(options.threads);

@@ -26,6 +26,7 @@ struct StageOptions {
   int firstFrame = 0;
   int lastFrame = -1;  // -1: the scene's last frame
   bool progress = false;
+  bool force = false;  // --force: past the scene limits (LoadOptions), and redo valid outputs
 };
 
 // The hash (16 hex digits) of everything in the scene that the output of `stage` ("sim",

@@ -11,6 +11,7 @@
 #include "pipeline/io/surface_file.h"
 #include "pipeline/io/video.h"
 #include "pipeline/particle_cache.h"
+#include "pipeline/scene.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -391,6 +392,101 @@ TEST(Interrupt, SigintStopsTheRunAndRunJsonSaysInterrupted) {
   // A complete run says so.
   ASSERT_EQ(test::runKurage("sim " + kTinyScene.string() + " -o " + out.string(), log), 0) << readText(log);
   EXPECT_EQ(nlohmann::json::parse(readText(out / "run.json"))["status"], "complete");
+}
+
+// ---- inputs checked before anything is allocated ---------------------------------------------
+
+// The tiny scene with one edit (a line of Python-free JSON surgery: key path -> value).
+nlohmann::json tinyWith(const std::string& pointer, const nlohmann::json& value) {
+  nlohmann::json doc = nlohmann::json::parse(readText(kTinyScene));
+  doc.erase("$schema");
+  doc[nlohmann::json::json_pointer(pointer)] = value;
+  return doc;
+}
+
+void expectSceneError(const nlohmann::json& doc, const std::string& jsonPath, const std::string& detail,
+                      const LoadOptions& options = {}) {
+  try {
+    parseScene(doc, "edited.json", options);
+    ADD_FAILURE() << "accepted: " << jsonPath << " " << detail;
+  } catch (const SceneError& e) {
+    EXPECT_EQ(e.jsonPath(), jsonPath) << e.what();
+    EXPECT_NE(std::string(e.what()).find(detail), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneLimits, AbsurdScenesAreRefusedWithTheEstimate) {
+  // Numbers a 32-bit float cannot hold.
+  expectSceneError(tinyWith("/fluid/spacing", 1e-300), "fluid.spacing", "too small for a 32-bit float");
+  expectSceneError(tinyWith("/container/max", {1e308, 5, 10}), "container.max[0]", "beyond the range of a 32-bit float");
+  // A finite but absurd container: the neighbour grid would need 1.9e31 cells (hard limit).
+  expectSceneError(tinyWith("/container/max", {1e30, 5, 10}), "container", "cells");
+  expectSceneError(tinyWith("/container/max", {1e30, 5, 10}), "container", "cells", {true});
+  // A duration that overflows the frame count (hard), and one above the soft limit.
+  expectSceneError(tinyWith("/output/duration", 1e9), "output.duration", "4e+09 frames");
+  expectSceneError(tinyWith("/output/duration", 1e9), "output.duration", "4e+09 frames", {true});
+  expectSceneError(tinyWith("/output/duration", 1e5), "output.duration", "--force");
+  EXPECT_EQ(parseScene(tinyWith("/output/duration", 1e5), "edited.json", {true}).output.frameCount(), 400001);
+  // 2e8 particles: refused before anything is allocated, with the estimate; --force lifts it.
+  nlohmann::json fine = tinyWith("/fluid/spacing", 0.01);
+  expectSceneError(fine, "fluid_blocks", "2e+08 particles");
+  EXPECT_NEAR(estimateScene(parseScene(fine, "edited.json", {true})).particles, 5.0 / 0.01 * 500 * 800, 2e6);
+  // The tiny scene itself is well within.
+  const SceneEstimate tiny = estimateScene(loadScene(kTinyScene));
+  EXPECT_EQ(tiny.particles, 200.0);
+  EXPECT_EQ(tiny.frames, 5.0);
+}
+
+TEST(SceneLimits, NameMustBeAPlainFileName) {
+  for (const std::string& name : std::vector<std::string>{"../../escape", "/tmp/abs", "a/b", std::string("a\0b", 3), "..", ".", "", "a\nb"})
+    expectSceneError(tinyWith("/name", name), "name", "must", {});
+  EXPECT_EQ(parseScene(tinyWith("/name", "my scene-2 (final)"), "edited.json").name, "my scene-2 (final)");
+}
+
+TEST(SceneLimits, DuplicateKeysAndHugeNumbersAreSceneErrors) {
+  TempDir dir;
+  const auto load = [&](const std::string& text) {
+    const fs::path file = dir.path() / "scene.json";
+    writeTextAtomic(file, text);
+    return loadScene(file);
+  };
+  const auto expectError = [&](const std::string& text, const std::string& jsonPath, const std::string& detail) {
+    try {
+      load(text);
+      ADD_FAILURE() << "accepted " << text;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.jsonPath(), jsonPath) << e.what();
+      EXPECT_NE(std::string(e.what()).find(detail), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find((dir.path() / "scene.json").string()), std::string::npos) << e.what();
+    }
+  };
+  expectError(R"({"name": "a", "name": "b"})", "name", "duplicate key");
+  expectError(R"({"fluid": {"spacing": 1, "spacing": 2}})", "fluid.spacing", "duplicate key");
+  expectError(R"({"bodies": [{"name": "a"}, {"name": "b", "name": "c"}]})", "bodies[].name", "duplicate key");
+  expectError(R"({"fluid": {"spacing": 1e400}})", "", "1e400");
+  // The same key in sibling objects is no duplicate (min and max in container and fluid_blocks[0]).
+  EXPECT_NO_THROW(load(readText(kTinyScene)));
+}
+
+TEST(SceneLimits, SceneAndCommandLineErrorsExitTwo) {
+  TempDir dir;
+  const fs::path log = dir.path() / "log.txt";
+  const fs::path out = dir.path() / "out";
+  const auto write = [&](const nlohmann::json& doc) {
+    const fs::path file = dir.path() / "scene.json";
+    writeTextAtomic(file, doc.dump());
+    return file.string();
+  };
+  EXPECT_EQ(test::runKurage("check " + write(tinyWith("/fluid/spacing", 1e-300)), log), 2) << readText(log);
+  EXPECT_EQ(test::runKurage("sim " + write(tinyWith("/name", "../../escape")) + " -o " + out.string(), log), 2);
+  EXPECT_NE(readText(log).find("name: must be a plain file name"), std::string::npos) << readText(log);
+  EXPECT_EQ(test::runKurage("sim " + kTinyScene.string() + " -o " + out.string() + " --frames 0-99", log), 2)
+      << readText(log);
+  EXPECT_NE(readText(log).find("the scene has frames 0-4"), std::string::npos) << readText(log);
+  writeTextAtomic(dir.path() / "huge.json", R"({"fluid": {"spacing": 1e400}})");
+  EXPECT_EQ(test::runKurage("check " + (dir.path() / "huge.json").string(), log), 2) << readText(log);
+  EXPECT_NE(readText(log).find((dir.path() / "huge.json").string()), std::string::npos) << readText(log);
+  EXPECT_FALSE(fs::exists(out)) << "nothing written for a refused scene";
 }
 
 }  // namespace
