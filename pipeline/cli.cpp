@@ -87,11 +87,13 @@ const char* const kStageOptionsHelp =
     "  --threads N        worker threads (default: all cores)\n"
     "  --progress         show progress on stderr even when it is not a terminal\n"
     "  --task NAME        (farm jobs) record into OUT/records/NAME.json, not OUT/run.json\n"
+    "  --force            run a scene above the size limits (docs/RELIABILITY.md)\n"
     "  -h, --help         this help\n";
 
 StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput) {
   StageCommandOptions o;
   o.stage.progress = args.flag({"--progress"}) || isatty(STDERR_FILENO);
+  o.stage.force = args.flag({"--force"});
   if (auto out = args.option({"-o", "--output"})) o.stage.outDir = *out;
   else if (requireOutput) args.fail("missing -o OUT");
   if (auto t = args.intOption({"--threads"}, 1, 1024)) o.threads = *t;
@@ -115,6 +117,14 @@ StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput) {
     if (o.stage.firstFrame < 0 || o.stage.lastFrame < o.stage.firstFrame) args.fail("--frames: bad range " + *frames);
   }
   return o;
+}
+
+std::pair<int, int> checkedFrameRange(const ArgParser& args, const Scene& scene, const StageOptions& options) {
+  try {
+    return frameRange(scene, options);
+  } catch (const std::invalid_argument& e) {
+    args.fail(e.what());
+  }
 }
 
 const char* const kQualityHelp =

@@ -41,6 +41,8 @@ struct StageCommandOptions {
   int threads = 0;  // 0: all cores
 };
 StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput);
+// frameRange(), its error a command-line error (exit 2).
+std::pair<int, int> checkedFrameRange(const ArgParser& args, const Scene& scene, const StageOptions& options);
 extern const char* const kStageOptionsHelp;
 
 // --quality preview|final (default final: the scene as written).

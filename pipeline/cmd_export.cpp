@@ -1,7 +1,7 @@
 // kurage export OUT --format F[,F...] [--frames A-B] [--threads N]: files for other tools from an
 // existing run (pipeline/io/exports.h). The scene is the one the run recorded in OUT/run.json.
 #include "pipeline/cli.h"
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/io/exports.h"
 #include "pipeline/scene.h"
 

@@ -8,11 +8,13 @@
 // sqrt(2 |g| height)). Camera and resolution come from the scene's render settings; the light is
 // fixed (from above, over the camera's shoulder) and the background a flat pale grey-blue.
 #include "pipeline/cli.h"
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/image_file.h"
 #include "pipeline/particle_cache.h"
+#include "pipeline/stages.h"
 #include "pipeline/progress.h"
 #include "pipeline/scene.h"
-#include "pipeline/video.h"
+#include "pipeline/io/video.h"
 #include "render/preview.h"
 
 #include <algorithm>
@@ -82,8 +84,8 @@ int commandPreview(std::vector<std::string> rawArgs) {
   if (positional.size() != 1) args.fail("expected one SCENE");
   const std::string& sceneFile = positional[0];
 
-  const Scene scene = loadScene(sceneFile);
-  const auto [first, last] = frameRange(scene, options.stage);
+  const Scene scene = loadScene(sceneFile, {options.stage.force});
+  const auto [first, last] = checkedFrameRange(args, scene, options.stage);
   const fs::path inFolder = options.stage.outDir / "particles";
   for (int f = first; f <= last; ++f) {
     const fs::path file = frameFile(inFolder, f, "vdb");
@@ -112,7 +114,7 @@ int commandPreview(std::vector<std::string> rawArgs) {
   double readSeconds = 0, drawSeconds = 0, writeSeconds = 0;
   for (int f = first; f <= last; ++f) {
     auto start = std::chrono::steady_clock::now();
-    const ParticleFrame frame = readParticleFrame(frameFile(inFolder, f, "vdb"));
+    const ParticleFrame frame = readParticleFrame(frameFile(inFolder, f, "vdb"), {"sim", stageHash(scene, "sim"), f});
     render::PreviewSpheres spheres;
     spheres.centres.resize(frame.size());
     spheres.radii.assign(frame.size(), radius);
@@ -133,7 +135,7 @@ int commandPreview(std::vector<std::string> rawArgs) {
     next = std::chrono::steady_clock::now();
     drawSeconds += std::chrono::duration<double>(next - start).count();
     start = next;
-    render::writePng(image, frameFile(outFolder, f, "png"));
+    writePng(image, frameFile(outFolder, f, "png"));
     writeSeconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     progress.advance(f - first + 1);
   }

@@ -10,13 +10,15 @@ namespace kurage::pipeline {
 int commandCheck(std::vector<std::string> rawArgs) {
   ArgParser args("check", std::move(rawArgs));
   if (args.flag({"-h", "--help"})) {
-    std::printf("usage: kurage check SCENE\n\nValidates SCENE (keys, types, ranges, consistency) and exits 0 if it is "
-                "valid, 2 with a message naming the file and the JSON path if not.\n");
+    std::printf("usage: kurage check SCENE [--force]\n\nValidates SCENE (keys, types, ranges, consistency, the size "
+                "limits of docs/RELIABILITY.md) and exits 0 if it is valid, 2 with a message naming the file and the "
+                "JSON path if not. --force lifts the soft size limits.\n");
     return 0;
   }
+  const bool force = args.flag({"--force"});
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one SCENE");
-  const Scene scene = loadScene(positional[0]);
+  const Scene scene = loadScene(positional[0], {force});
   const sim::Simulation probe(scene.sim);
   std::printf("%s: valid (%zu particles, %d frames)\n", positional[0].c_str(), probe.particles().size(),
               scene.output.frameCount());

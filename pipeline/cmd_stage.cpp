@@ -1,10 +1,13 @@
 // kurage run | sim | surface | render SCENE -o OUT
 #include "pipeline/cli.h"
+#include "pipeline/interrupt.h"
+#include "pipeline/io/run_lock.h"
 #include "pipeline/scene.h"
-#include "pipeline/video.h"
+#include "pipeline/io/video.h"
 #include "sim/simulation.h"
 
 #include <cstdio>
+#include <optional>
 
 namespace kurage::pipeline {
 
@@ -61,33 +64,55 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   const std::string& sceneFile = positional[0];
 
   // Everything is validated before the output folder is touched.
-  Scene scene = loadScene(sceneFile);
+  Scene scene = loadScene(sceneFile, {options.stage.force});
   applyQuality(scene, quality);
   if (width) scene.render.settings.width = *width;
   if (height) scene.render.settings.height = *height;
   if (spp) scene.render.settings.samplesPerPixel = *spp;
   if (depth) scene.render.settings.maxDepth = *depth;
-  frameRange(scene, options.stage);
+  checkedFrameRange(args, scene, options.stage);
   checkFixedStep(scene, sceneFile, strict);
 
   ThreadLimit threads(options.threads);
-  std::filesystem::create_directories(options.stage.outDir);
+  // One run per OUT (held until the process ends); SIGINT/SIGTERM stop at the next frame. A farm
+  // task takes no lock: its job dependencies order the stages, its frames are its own, and its
+  // record is its own file (OUT/records/TASK.json).
+  std::optional<RunLock> lock;
+  if (options.stage.task.empty()) lock.emplace(options.stage.outDir, name + " " + sceneFile);
+  installInterruptHandlers();
   RunRecord record(options.stage.outDir, scene, sceneFile, options.stage.task);
   record.data()["threads"] = ThreadLimit::current();
   record.data()["quality"] = quality == Quality::Preview ? "preview" : "final";
-  const bool all = name == "run";
-  if (all || name == "sim") runSimStage(scene, options.stage, record);
-  if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
-  if (all || name == "render") runRenderStage(scene, options.stage, record);
-  if (all && scene.output.exports.any()) runExportStage(scene, options.stage, record);
-  const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
-  const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
-  std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());
-  if (video) {
-    const auto [first, last] = frameRange(scene, options.stage);
-    encodeVideoAndReport(options.stage.outDir / "frames", first, last - first + 1, scene.output.fps,
-                         options.stage.outDir / (scene.name + ".mp4"));
+  record.data()["command"] = name;
+  record.data()["status"] = "running";
+  record.save();
+  try {
+    const bool all = name == "run";
+    if (all || name == "sim") runSimStage(scene, options.stage, record);
+    if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
+    if (all || name == "render") runRenderStage(scene, options.stage, record);
+    if (all && scene.output.exports.any()) runExportStage(scene, options.stage, record);
+    const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
+    const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
+    std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());
+    if (video) {
+      const auto [first, last] = frameRange(scene, options.stage);
+      encodeVideoAndReport(options.stage.outDir / "frames", first, last - first + 1, scene.output.fps,
+                           options.stage.outDir / (scene.name + ".mp4"));
+    }
+  } catch (const std::exception& e) {
+    // run.json says how the run ended; a failure to record that must not hide the first error.
+    record.data()["status"] = dynamic_cast<const Interrupted*>(&e) ? "interrupted" : "failed";
+    record.data()["error"] = e.what();
+    try {
+      record.save();
+    } catch (const std::exception&) {
+    }
+    throw;
   }
+  record.data()["status"] = "complete";
+  record.data().erase("error");
+  record.save();
   return 0;
 }
 

@@ -3,7 +3,8 @@
 // (--from OUT: the frame of OUT/particles nearest to T). Surfaces are built as the surface stage
 // does; --spheres shows the particles themselves, coloured by kind, speed or rest-density factor.
 #include "pipeline/cli.h"
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/image_file.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/scene.h"
@@ -129,7 +130,7 @@ int commandStill(std::vector<std::string> rawArgs) {
     if (hasChains(scene)) curves.push_back(chainTubes(scene, frame));  // chains are tubes, not surfaces
     image = renderSurfaces(scene, surfaceFrame(scene, frame), frameTime, &stats, curves);
   }
-  render::writePng(image, outFile, settings.transparentBackground, scene.render.bitDepth);
+  writePng(image, outFile, settings.transparentBackground, scene.render.bitDepth);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("still: %s (%dx%d, %d spp, t = %g s%s, %.1f s)\n", outFile.string().c_str(), settings.width,
               settings.height, settings.samplesPerPixel, frameTime,

@@ -1,6 +1,6 @@
 // kurage study STUDY.json -o OUT: what accuracy costs in time (pipeline/study.h).
 #include "pipeline/cli.h"
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/study.h"
 
 #include <cstdio>

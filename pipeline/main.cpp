@@ -2,6 +2,7 @@
 // Only this file decides to exit; commands and libraries report errors to their caller.
 #include "pipeline/cli.h"
 #include "pipeline/farm/farm.h"
+#include "pipeline/interrupt.h"
 #include "pipeline/scene.h"
 #include "pipeline/study.h"
 #include "sim/simulation.h"
@@ -70,6 +71,9 @@ int main(int argc, char** argv) {
   } catch (const SceneError& e) {
     std::fprintf(stderr, "kurage: scene error: %s\n", e.what());
     return 2;
+  } catch (const Interrupted& e) {
+    std::fprintf(stderr, "kurage: %s\n", e.what());
+    return 128 + e.signal();
   } catch (const kurage::sim::SimulationError& e) {
     std::fprintf(stderr, "kurage: simulation stopped: %s\n", e.what());
     return 1;

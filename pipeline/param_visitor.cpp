@@ -2,8 +2,10 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <limits>
 #include <sstream>
+#include <type_traits>
 
 namespace kurage::pipeline {
 
@@ -68,6 +70,14 @@ void JsonReader::checkRange(const char* key, double v, const Range& r) const {
                   formatNumber(v));
 }
 
+void JsonReader::checkFloat(const char* key, double v) const {
+  // Values are kept as 32-bit floats: one beyond their range would become infinite, a tiny one 0.
+  if (std::abs(v) > double(std::numeric_limits<float>::max()))
+    fail(key, "is beyond the range of a 32-bit float (about 3.4e38), got " + formatNumber(v));
+  if (v != 0.0 && std::abs(v) < double(std::numeric_limits<float>::min()))
+    fail(key, "is too small for a 32-bit float (below about 1.2e-38), got " + formatNumber(v));
+}
+
 template <class T>
 void JsonReader::number(const char* key, T& ref, const Field& f, bool integral) {
   const nlohmann::json* j = find(key, f);
@@ -77,6 +87,7 @@ void JsonReader::number(const char* key, T& ref, const Field& f, bool integral) 
   if (integral && (!j->is_number_integer() || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()))
     fail(key, "must be an integer, got " + j->dump());
   checkRange(key, v, f.range);
+  if constexpr (std::is_same_v<T, float>) checkFloat(key, v);
   ref = static_cast<T>(v);
 }
 template void JsonReader::number<float>(const char*, float&, const Field&, bool);
@@ -110,6 +121,7 @@ void JsonReader::value(const char* key, Eigen::Vector3f& ref, const Field& f) {
     const std::string itemKey = std::string(key) + "[" + std::to_string(a) + "]";
     if (!c.is_number()) fail(itemKey, "must be a number, got " + c.dump());
     checkRange(itemKey.c_str(), c.get<double>(), f.range);
+    checkFloat(itemKey.c_str(), c.get<double>());
     ref[a] = c.get<float>();
   }
 }

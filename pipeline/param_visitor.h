@@ -129,6 +129,7 @@ private:
   template <class T>
   void number(const char* key, T& ref, const Field& f, bool integral);
   void checkRange(const char* key, double v, const Range& r) const;
+  void checkFloat(const char* key, double v) const;
 
   const nlohmann::json& object_;
   std::string file_, path_;

@@ -7,8 +7,10 @@
 // NullCodec the float written is the float read back (the reader takes care of -0.0).
 #include "pipeline/particle_cache.h"
 
+#include "pipeline/io/files.h"
+
 #include <openvdb/openvdb.h>
-#include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/points/PointAttribute.h>
 #include <openvdb/points/PointConversion.h>
 #include <openvdb/points/PointDataGrid.h>
@@ -17,6 +19,7 @@
 #include <optional>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <system_error>
 
@@ -107,7 +110,7 @@ std::vector<std::string> splitKinds(const std::string& joined) {
 void writeParticleFrame(const std::filesystem::path& path, const ParticleFrame& frame) {
   checkFrame(path, frame);
   openvdb::initialize();
-  const std::filesystem::path tmp = path.string() + ".tmp";
+  std::ostringstream bytes;
   try {
     const size_t n = frame.size();
     std::vector<openvdb::Vec3f> positions(n), velocities(n);
@@ -140,32 +143,42 @@ void writeParticleFrame(const std::filesystem::path& path, const ParticleFrame& 
     meta.insertMeta("kurage:time", openvdb::DoubleMetadata(frame.time));
     meta.insertMeta("kurage:frame", openvdb::Int32Metadata(frame.frame));
     meta.insertMeta("kurage:kinds", openvdb::StringMetadata(joinKinds(frame.kindNames)));
-
-    openvdb::io::File file(tmp.string());
-    file.write(openvdb::GridCPtrVec{grid}, meta);
-    file.close();
-    std::filesystem::rename(tmp, path);
+    meta.insertMeta("kurage:stage", openvdb::StringMetadata("sim"));
+    meta.insertMeta("kurage:scene_hash", openvdb::StringMetadata(frame.sceneHash));
+    meta.insertMeta("kurage:checksum", openvdb::StringMetadata(std::string(kChecksumPlaceholder)));
+    openvdb::io::Stream(bytes).write(openvdb::GridCPtrVec{grid}, meta);
+    if (!bytes) fail("cannot write particles to", path, "serialisation failed");
+  } catch (const CacheError&) {
+    throw;
   } catch (const std::exception& e) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    if (dynamic_cast<const CacheError*>(&e)) throw;
     fail("cannot write particles to", path, e.what());
   }
+  writeSealed(path, std::move(bytes).str());
 }
 
-ParticleFrame readParticleFrame(const std::filesystem::path& path) {
+ParticleFrame readParticleFrame(const std::filesystem::path& path, const FileStamp& expected) {
   openvdb::initialize();
-  if (!std::filesystem::is_regular_file(path)) fail("cannot read particles from", path, "no such file");
+  std::istringstream in(readVerified(path));  // the checksum is checked before OpenVDB parses
 
   vp::PointDataGrid::Ptr grid;
   openvdb::MetaMap::Ptr meta;
   try {
-    openvdb::io::File file(path.string());
-    file.open(/*delayLoad=*/false);  // read everything now: a truncated file must fail here
+    openvdb::io::Stream file(in, /*delayLoad=*/false);
     meta = file.getMetadata();
-    if (!file.hasGrid(kGridName)) fail("cannot read particles from", path, "no grid named 'particles'");
-    grid = openvdb::gridPtrCast<vp::PointDataGrid>(file.readGrid(kGridName));
-    file.close();
+    const openvdb::GridPtrVecPtr grids = file.getGrids();
+    if (!meta || !grids) fail("cannot read particles from", path, "not an OpenVDB stream");
+    const auto stringMeta = [&meta](const char* key) {
+      const auto value = meta->getMetadata<openvdb::StringMetadata>(key);
+      return value ? value->value() : std::string("(none)");
+    };
+    const auto number = meta->getMetadata<openvdb::Int32Metadata>("kurage:frame");
+    checkStamp({stringMeta("kurage:stage"), stringMeta("kurage:scene_hash"), number ? number->value() : -1}, expected,
+               path);
+    for (const openvdb::GridBase::Ptr& base : *grids)
+      if (base && base->getName() == kGridName) grid = openvdb::gridPtrCast<vp::PointDataGrid>(base);
+    if (!grid) fail("cannot read particles from", path, "no point data grid named 'particles'");
+  } catch (const IoError&) {
+    throw;
   } catch (const CacheError&) {
     throw;
   } catch (const std::exception& e) {
@@ -183,6 +196,7 @@ ParticleFrame readParticleFrame(const std::filesystem::path& path) {
   frame.time = time->value();
   frame.frame = number->value();
   frame.kindNames = splitKinds(kinds->value());
+  if (const auto hash = meta->getMetadata<openvdb::StringMetadata>("kurage:scene_hash")) frame.sceneHash = hash->value();
 
   struct Raw {
     float p[3], v[3];

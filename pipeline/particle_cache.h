@@ -11,9 +11,13 @@
 //   kurage:time   double  simulated time of the frame, seconds
 //   kurage:frame  int32   output frame index
 //   kurage:kinds  string  comma-separated names of the kinds, index = kind value
+//   kurage:stage "sim", kurage:scene_hash, kurage:checksum: see pipeline/io/stamp.h
 //
-// Files are written to a temporary name beside the target and renamed into place.
+// The files are in OpenVDB's stream format (io::Stream; OpenVDB's io::File and vdb_print read
+// them too), written atomically through pipeline/io, and checked before they are parsed.
 #pragma once
+
+#include "pipeline/io/stamp.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -32,6 +36,7 @@ struct ParticleFrame {
   std::vector<int64_t> id;
   std::vector<int32_t> kind;
   std::vector<float> restDensityFactor;  // empty when writing means all 1
+  std::string sceneHash;                 // kurage:scene_hash: the simulation parameters' hash
 
 
   size_t size() const { return px.size(); }
@@ -40,8 +45,10 @@ struct ParticleFrame {
 // Writes the frame. Throws std::runtime_error naming the path on failure.
 void writeParticleFrame(const std::filesystem::path& path, const ParticleFrame& frame);
 
-// Reads a frame written by writeParticleFrame. Particles come back sorted by id.
-// Throws std::runtime_error naming the path if it is missing, truncated, or lacks an attribute.
-ParticleFrame readParticleFrame(const std::filesystem::path& path);
+// Reads a frame written by writeParticleFrame. Particles come back sorted by id. The checksum is
+// verified before parsing and the stamp compared with `expected` (empty fields unchecked).
+// Throws std::runtime_error (IoError) naming the path if it is missing, truncated, damaged,
+// foreign (another scene's, another stage's, another frame's), or lacks an attribute.
+ParticleFrame readParticleFrame(const std::filesystem::path& path, const FileStamp& expected = {"sim", "", -1});
 
 }  // namespace kurage::pipeline

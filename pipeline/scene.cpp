@@ -1,5 +1,6 @@
 #include "pipeline/scene.h"
 
+#include "pipeline/io/files.h"
 #include "pipeline/scene_params.h"
 #include "sim/bodies.h"
 
@@ -9,6 +10,8 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <unistd.h>
+#include <vector>
 
 namespace kurage::pipeline {
 
@@ -34,9 +37,57 @@ std::string vec(const Eigen::Vector3f& v) {
   return s.str();
 }
 
+std::string formatCount(double v) {
+  std::ostringstream s;
+  s.precision(3);
+  s << v;
+  return s.str();
+}
+
+// The output file names are made from `name`: it must be a plain file name.
+void checkName(const std::string& name, const std::string& file) {
+  std::string why;
+  if (name.empty()) why = "must not be empty";
+  else if (name.find('\0') != std::string::npos) why = "must not contain a NUL character";
+  else if (name.find('/') != std::string::npos || name.find('\\') != std::string::npos)
+    why = "must be a plain file name, without / or \\";
+  else if (name == "." || name == "..") why = "must be a plain file name, not . or ..";
+  else if (name.size() > 200) why = "must be at most 200 bytes long";
+  else
+    for (const char c : name)
+      if (static_cast<unsigned char>(c) < 0x20) why = "must not contain control characters";
+  if (!why.empty()) throw SceneError(file, "name", why + ", got " + nlohmann::json(name).dump());
+}
+
+void checkLimits(const Scene& scene, const std::string& file, const LoadOptions& options) {
+  const SceneEstimate e = estimateScene(scene);
+  const std::string hint = "; --force runs it anyway";
+  if (e.frames > kMaxFramesHard)
+    throw SceneError(file, "output.duration", "gives " + formatCount(e.frames) + " frames at output.fps, above the limit of " +
+                                                 formatCount(kMaxFramesHard));
+  if (e.gridCells > kMaxGridCells)
+    throw SceneError(file, "container", "needs a neighbour grid of " + formatCount(e.gridCells) +
+                                            " cells (container size / support radius), above the limit of " +
+                                            formatCount(kMaxGridCells) + "; a smaller container or larger spacing fits");
+  if (options.force) return;
+  if (e.frames > kMaxFrames)
+    throw SceneError(file, "output.duration", "gives " + formatCount(e.frames) + " frames, above the limit of " +
+                                                 formatCount(kMaxFrames) + hint);
+  if (e.particles > kMaxParticles)
+    throw SceneError(file, "fluid_blocks", "hold about " + formatCount(e.particles) + " particles, above the limit of " +
+                                               formatCount(kMaxParticles) + hint);
+  const double physical = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  if (physical > 0 && e.memoryBytes > physical)
+    throw SceneError(file, "fluid.spacing", "the simulation needs about " + formatCount(e.memoryBytes / 1e9) + " GB (" +
+                                                formatCount(e.particles) + " particles, " + formatCount(e.gridCells) +
+                                                " grid cells), more than this machine's " + formatCount(physical / 1e9) +
+                                                " GB" + hint);
+}
+
 // Checks that need more than one field: they name the JSON path of the offending value.
 void validate(const Scene& scene, const std::string& file) {
   auto fail = [&file](const std::string& path, const std::string& message) { throw SceneError(file, path, message); };
+  checkName(scene.name, file);
   const sim::SimParams& sim = scene.sim;
   const sim::ContainerParams& box = sim.container;
   const float h = sim.fluid.supportRadiusMetres();
@@ -143,35 +194,97 @@ void validate(const Scene& scene, const std::string& file) {
 
 }  // namespace
 
-Scene parseScene(const nlohmann::json& document, const std::string& file) {
+SceneEstimate estimateScene(const Scene& scene) {
+  SceneEstimate e;
+  const sim::SimParams& sim = scene.sim;
+  const double spacing = sim.fluid.spacing;
+  for (const sim::FluidBlock& b : sim.fluidBlocks) {
+    double n = 1.0;
+    for (int a = 0; a < 3; ++a) n *= std::floor((double(b.max[a]) - b.min[a]) / spacing + 1e-4);
+    e.particles += std::max(0.0, n);
+  }
+  const double h = sim.fluid.supportRadiusMetres();
+  e.gridCells = 1.0;
+  for (int a = 0; a < 3; ++a)
+    e.gridCells *= std::max(1.0, std::ceil((double(sim.container.max[a]) - sim.container.min[a]) / h));
+  e.frames = std::floor(double(scene.output.duration) * scene.output.fps + 1e-6) + 1.0;
+  e.memoryBytes = e.particles * kBytesPerParticle + e.gridCells * 12.0;
+  return e;
+}
+
+Scene parseScene(const nlohmann::json& document, const std::string& file, const LoadOptions& options) {
   if (!document.is_object()) throw SceneError(file, "", "a scene must be a JSON object");
   Scene scene;
   JsonReader reader(document, file, "");
   describe(reader, scene);
   reader.finish();
   validate(scene, file);
+  checkLimits(scene, file, options);
   return scene;
 }
 
-Scene loadScene(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw SceneError(file.string(), "", "cannot open the scene file");
-  std::stringstream text;
-  text << in.rdbuf();
-  nlohmann::json document;
+namespace {
+
+// Parses JSON text, refusing duplicate keys (nlohmann keeps the last silently). Throws
+// SceneError naming the file: the line and column of a syntax error, the path of a duplicate.
+nlohmann::json parseStrictJson(const std::string& s, const std::string& file) {
+  // Per open object: its path and the keys seen; arrays push an entry that takes no keys.
+  struct Level {
+    std::string path;
+    std::vector<std::string> keys;
+  };
+  std::vector<Level> levels;
+  std::string lastKey;
+  const auto childPath = [&]() {
+    const std::string parent = levels.empty() ? "" : levels.back().path;
+    return lastKey.empty() ? parent + "[]" : (parent.empty() ? lastKey : parent + "." + lastKey);
+  };
+  const nlohmann::json::parser_callback_t callback = [&](int, nlohmann::json::parse_event_t event,
+                                                          nlohmann::json& parsed) {
+    using E = nlohmann::json::parse_event_t;
+    if (event == E::object_start || event == E::array_start) {
+      levels.push_back({levels.empty() ? "" : childPath(), {}});
+      lastKey.clear();
+    } else if (event == E::object_end || event == E::array_end) {
+      if (!levels.empty()) levels.pop_back();
+      lastKey.clear();
+    } else if (event == E::key) {
+      const std::string key = parsed.get<std::string>();
+      std::vector<std::string>& keys = levels.back().keys;
+      lastKey = key;
+      if (std::find(keys.begin(), keys.end(), key) != keys.end())
+        throw SceneError(file, childPath(), "duplicate key \"" + key + "\" (JSON keeps only one of them)");
+      keys.push_back(key);
+    } else if (event == E::value) {
+      lastKey.clear();
+    }
+    return true;
+  };
   try {
-    document = nlohmann::json::parse(text.str());
+    return nlohmann::json::parse(s, callback);
   } catch (const nlohmann::json::parse_error& e) {
     // Turn the byte offset into a line and column.
-    const std::string s = text.str();
     size_t line = 1, column = 1;
     for (size_t i = 0; i + 1 < e.byte && i < s.size(); ++i) {
       if (s[i] == '\n') { ++line; column = 1; } else { ++column; }
     }
-    throw SceneError(file.string(), "", "invalid JSON at line " + std::to_string(line) + ", column " +
-                                             std::to_string(column) + ": " + e.what());
+    throw SceneError(file, "", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
+                                   ": " + e.what());
+  } catch (const nlohmann::json::exception& e) {  // e.g. a number beyond a double (1e400)
+    throw SceneError(file, "", std::string("invalid JSON: ") + e.what());
   }
-  return parseScene(document, file.string());
+}
+
+}  // namespace
+
+Scene loadScene(const std::filesystem::path& file, const LoadOptions& options) {
+  std::string text;
+  try {
+    text = readFile(file);
+  } catch (const IoError& e) {
+    throw SceneError(file.string(), "", std::string("cannot read the scene file: ") + e.what());
+  }
+  return parseScene(parseStrictJson(text, file.string()), file.string(), options);
 }
 
 nlohmann::json sceneToJson(const Scene& scene) {

@@ -153,13 +153,35 @@ struct Scene {
 // the surface voxel sizes.
 void applyQuality(Scene& scene, Quality quality);
 
+// What a scene costs, estimated from its parameters before anything is allocated.
+struct SceneEstimate {
+  double particles = 0;     // initial fluid particles (the fluid blocks; bodies and emitters not counted)
+  double gridCells = 0;     // neighbour grid cells over the container (edge = the support radius)
+  double frames = 0;        // output frames
+  double memoryBytes = 0;   // particles x kBytesPerParticle + cells x 12 B
+};
+inline constexpr double kBytesPerParticle = 600.0;  // simulation arrays and neighbour lists
+SceneEstimate estimateScene(const Scene& scene);
+
+// The limits a scene must stay within (docs/RELIABILITY.md); `force` lifts the soft ones.
+struct LoadOptions {
+  bool force = false;
+};
+inline constexpr double kMaxParticles = 50e6;   // soft
+inline constexpr double kMaxFrames = 100000;    // soft (about 70 minutes at 24 fps)
+inline constexpr double kMaxFramesHard = 1e7;   // even with --force
+inline constexpr double kMaxGridCells = 4e8;    // hard: the neighbour grid's own limit
+// soft: memory above the machine's physical memory
+
 // Loads and validates a scene. Throws SceneError (file + JSON path) on any problem: unreadable
-// file, JSON syntax, unknown keys, wrong types, missing required values, out-of-range values,
-// and inconsistencies between components (a fluid block outside the container, ...).
-Scene loadScene(const std::filesystem::path& file);
+// file, JSON syntax or duplicate keys, unknown keys, wrong types, missing required values,
+// out-of-range values (numbers beyond a 32-bit float too), inconsistencies between components
+// (a fluid block outside the container, ...), a `name` that is not a plain file name, and a
+// scene above the limits (the message gives the estimate).
+Scene loadScene(const std::filesystem::path& file, const LoadOptions& options = {});
 
 // Same, from an already parsed document; `file` is only used in messages.
-Scene parseScene(const nlohmann::json& document, const std::string& file);
+Scene parseScene(const nlohmann::json& document, const std::string& file, const LoadOptions& options = {});
 
 // The parameters in effect (after defaults), as written to run.json.
 nlohmann::json sceneToJson(const Scene& scene);

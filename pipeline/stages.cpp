@@ -1,7 +1,11 @@
 #include "pipeline/stages.h"
 
-#include "pipeline/files.h"
+#include "pipeline/interrupt.h"
 #include "pipeline/io/exports.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/image_file.h"
+#include "pipeline/io/stamp.h"
+#include "pipeline/io/surface_file.h"
 #include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
@@ -186,6 +190,19 @@ private:
 
 }  // namespace
 
+std::string stageHash(const Scene& scene, const std::string& stage) {
+  nlohmann::json all = sceneToJson(scene);
+  nlohmann::json inputs = all;
+  for (const char* key : {"name", "description", "surface", "render", "preview_quality", "output"}) inputs.erase(key);
+  inputs["output_fps"] = all["output"]["fps"];  // frame f is at f / fps; the duration changes no frame
+  if (stage == "sim") return hex64(fnv1a64(inputs.dump()));
+  inputs["surface"] = all["surface"];
+  if (stage == "surface") return hex64(fnv1a64(inputs.dump()));
+  inputs["render"] = all["render"];
+  if (stage == "render") return hex64(fnv1a64(inputs.dump()));
+  throw std::invalid_argument("stageHash: unknown stage " + stage);
+}
+
 std::pair<int, int> frameRange(const Scene& scene, const StageOptions& options) {
   const int count = scene.output.frameCount();
   const int last = options.lastFrame < 0 ? count - 1 : options.lastFrame;
@@ -234,14 +251,19 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   const auto start = std::chrono::steady_clock::now();
   const fs::path folder = options.outDir / "particles";
   fs::create_directories(folder);
+  const std::string simHash = stageHash(scene, "sim");
   sim::Simulation simulation(scene.sim);
   BodyTrack track(scene);
   Progress progress("sim", last + 1, options.progress);
   for (int f = 0; f <= last; ++f) {
+    throwIfInterrupted();
     simulation.advanceTo(scene.output.frameTime(f));
     track.record(simulation);
-    if (f >= first)
-      writeParticleFrame(frameFile(folder, f, "vdb"), frameFromSimulation(scene, simulation, f));
+    if (f >= first) {
+      ParticleFrame frame = frameFromSimulation(scene, simulation, f);
+      frame.sceneHash = simHash;
+      writeParticleFrame(frameFile(folder, f, "vdb"), frame);
+    }
     progress.advance(f + 1);
   }
   progress.finish();
@@ -338,14 +360,18 @@ void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord&
   fs::create_directories(outFolder);
   Progress progress("surface", last - first + 1, options.progress);
   size_t voxels = 0;
+  const FileStamp input{"sim", stageHash(scene, "sim"), -1};
+  const std::string surfaceHash = stageHash(scene, "surface");
   for (int f = first; f <= last; ++f) {
-    const std::map<std::string, render::LevelSet> surfaces = surfaceParticles(scene, frameFile(inFolder, f, "vdb"));
+    throwIfInterrupted();
+    const std::map<std::string, render::LevelSet> surfaces =
+        surfaceFrame(scene, readParticleFrame(frameFile(inFolder, f, "vdb"), {input.stage, input.sceneHash, f}));
     std::map<std::string, const render::LevelSet*> grids;
     for (const auto& [name, grid] : surfaces) {
       grids[name] = &grid;
       voxels += grid.activeVoxelCount();
     }
-    writeLevelSets(frameFile(outFolder, f, "vdb"), grids, scene.output.frameTime(f), f);
+    writeSurfaceFile(frameFile(outFolder, f, "vdb"), grids, scene.output.frameTime(f), f, surfaceHash);
     progress.advance(f - first + 1);
   }
   progress.finish();
@@ -381,19 +407,23 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
   if (chains)
     for (int f = first; f <= last; ++f) requireFile(frameFile(particleFolder, f, "vdb"), "sim");
   fs::create_directories(outFolder);
+  const std::string simHash = stageHash(scene, "sim");
+  const std::string surfaceHash = stageHash(scene, "surface");
   Progress progress("render", last - first + 1, options.progress);
   uint64_t primaryRays = 0, totalRays = 0;
   double traceSeconds = 0.0;
   for (int f = first; f <= last; ++f) {
+    throwIfInterrupted();
     render::RenderStats stats;
     std::vector<render::CurveSet> curves;
-    if (chains) curves.push_back(chainTubes(scene, readParticleFrame(frameFile(particleFolder, f, "vdb"))));
-    const render::Image image = renderSurfaces(scene, render::readLevelSets(frameFile(inFolder, f, "vdb")),
+    if (chains)
+      curves.push_back(chainTubes(scene, readParticleFrame(frameFile(particleFolder, f, "vdb"), {"sim", simHash, f})));
+    const render::Image image = renderSurfaces(scene, readSurfaceFile(frameFile(inFolder, f, "vdb"), {"surface", surfaceHash, f}),
                                                scene.output.frameTime(f), &stats, curves);
     primaryRays += stats.primaryRays;
     totalRays += stats.totalRays;
     traceSeconds += stats.seconds;
-    render::writePng(image, frameFile(outFolder, f, "png"), scene.render.settings.transparentBackground,
+    writePng(image, frameFile(outFolder, f, "png"), scene.render.settings.transparentBackground,
                      scene.render.bitDepth);
     progress.advance(f - first + 1);
   }

@@ -30,7 +30,14 @@ struct StageOptions {
   // A farm task (pipeline/farm/farm.h): its record goes to OUT/records/TASK.json instead of
   // OUT/run.json, which `kurage farm merge` assembles from the records. Empty: a local run.
   std::string task;
+  bool force = false;  // --force: past the scene limits (LoadOptions), and redo valid outputs
 };
+
+// The hash (16 hex digits) of everything in the scene that the output of `stage` ("sim",
+// "surface", "render") depends on: for "sim" the simulation parameters and the frame rate, for
+// "surface" those and the surface section, for "render" those and the render section (after
+// --quality and command-line overrides). Stamped into every cache and surface file.
+std::string stageHash(const Scene& scene, const std::string& stage);
 
 // The frames [first, last] a stage works on, checked against the scene. Throws
 // std::invalid_argument for a range outside 0 .. frameCount-1.

@@ -1,7 +1,8 @@
 #include "pipeline/study.h"
 
 #include "pipeline/cli.h"
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/image_file.h"
 #include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/stages.h"

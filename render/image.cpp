@@ -50,9 +50,9 @@ float srgbToLinear(float encoded) {
   return static_cast<float>(v <= 0.04045 ? v / 12.92 : std::pow((v + 0.055) / 1.055, 2.4));
 }
 
-void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha) {
-  if (image.width() <= 0 || image.height() <= 0)
-    throw std::runtime_error("writePng " + quoted(path) + ": empty image");
+namespace {
+
+std::string encodePng8(const Image& image, bool withAlpha) {
   const int channels = withAlpha ? 4 : 3;
   std::vector<png_byte> bytes(static_cast<size_t>(image.width()) * image.height() * channels);
   size_t i = 0;
@@ -68,24 +68,18 @@ void writePng(const Image& image, const std::filesystem::path& path, bool withAl
   png.width = static_cast<png_uint_32>(image.width());
   png.height = static_cast<png_uint_32>(image.height());
   png.format = withAlpha ? PNG_FORMAT_RGBA : PNG_FORMAT_RGB;  // 8-bit, tagged sRGB
-
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  const bool ok = png_image_write_to_file(&png, tmp.c_str(), 0, bytes.data(), 0, nullptr) != 0;
+  png_alloc_size_t size = 0;
+  bool ok = png_image_write_to_memory(&png, nullptr, &size, 0, bytes.data(), 0, nullptr) != 0;
+  std::string out(ok ? size : 0, '\0');
+  if (ok) ok = png_image_write_to_memory(&png, out.data(), &size, 0, bytes.data(), 0, nullptr) != 0;
   const std::string message = png.message;
   png_image_free(&png);
-  std::error_code ec;
-  if (!ok) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("writePng " + quoted(path) + ": " + message);
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("writePng " + quoted(path) + ": rename failed: " + ec.message());
-  }
+  if (!ok) throw std::runtime_error("encodePng: " + message);
+  out.resize(size);
+  return out;
 }
+
+}  // namespace
 
 namespace {
 
@@ -170,12 +164,24 @@ Image readPng(const std::filesystem::path& path) {
 
 namespace {
 
-// Encodes 16-bit big-endian rows into `file`. Returns false after a libpng error (message in
-// the error pointer). Owns no C++ objects, so libpng's longjmp skips no destructor.
-bool writePngRows16(png_structp png, png_infop info, std::FILE* file, int width, int height, bool withAlpha,
+// libpng's write callback: appends to the std::string behind the io pointer.
+void appendToString(png_structp png, png_bytep data, png_size_t length) {
+  auto* out = static_cast<std::string*>(png_get_io_ptr(png));
+  try {
+    out->append(reinterpret_cast<const char*>(data), length);
+  } catch (...) {
+    png_error(png, "out of memory");
+  }
+}
+
+void flushNothing(png_structp) {}
+
+// Encodes 16-bit big-endian rows into `out`. Returns false after a libpng error (message in the
+// error pointer). Owns no C++ objects, so libpng's longjmp skips no destructor.
+bool writePngRows16(png_structp png, png_infop info, std::string* out, int width, int height, bool withAlpha,
                     png_bytep* rows) {
   if (setjmp(png_jmpbuf(png))) return false;
-  png_init_io(png, file);
+  png_set_write_fn(png, out, appendToString, flushNothing);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), 16,
                withAlpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT,
                PNG_FILTER_TYPE_DEFAULT);
@@ -188,11 +194,10 @@ bool writePngRows16(png_structp png, png_infop info, std::FILE* file, int width,
 
 }  // namespace
 
-void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha, int bitDepth) {
-  if (bitDepth == 8) return writePng(image, path, withAlpha);
-  if (bitDepth != 16) throw std::invalid_argument("writePng " + quoted(path) + ": bit depth must be 8 or 16");
-  if (image.width() <= 0 || image.height() <= 0)
-    throw std::runtime_error("writePng " + quoted(path) + ": empty image");
+std::string encodePng(const Image& image, bool withAlpha, int bitDepth) {
+  if (bitDepth != 8 && bitDepth != 16) throw std::invalid_argument("encodePng: bit depth must be 8 or 16");
+  if (image.width() <= 0 || image.height() <= 0) throw std::runtime_error("encodePng: empty image");
+  if (bitDepth == 8) return encodePng8(image, withAlpha);
   const int channels = withAlpha ? 4 : 3;
   const size_t rowBytes = static_cast<size_t>(image.width()) * channels * 2;
   std::vector<png_byte> bytes(rowBytes * static_cast<size_t>(image.height()));
@@ -208,30 +213,14 @@ void writePng(const Image& image, const std::filesystem::path& path, bool withAl
         row[(x * channels + c) * 2 + 1] = static_cast<png_byte>(v & 0xFF);
       }
   }
-  std::filesystem::path tmp = path;
-  tmp += ".tmp";
-  bool ok = false;
+  std::string out;
   PngError error;
-  {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(tmp.c_str(), "wb"), &std::fclose);
-    if (!file) throw std::runtime_error("writePng " + quoted(path) + ": cannot create " + quoted(tmp));
-    png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, onPngError, onPngWarning);
-    png_infop info = png ? png_create_info_struct(png) : nullptr;
-    ok = info && writePngRows16(png, info, file.get(), image.width(), image.height(), withAlpha, rows.data());
-    png_destroy_write_struct(&png, &info);
-    ok = std::fflush(file.get()) == 0 && ok;
-  }
-  std::error_code ec;
-  if (!ok) {
-    std::filesystem::remove(tmp, ec);
-    throw std::runtime_error("writePng " + quoted(path) + ": " + error.message);
-  }
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("writePng " + quoted(path) + ": rename failed: " + ec.message());
-  }
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &error, onPngError, onPngWarning);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  const bool ok = info && writePngRows16(png, info, &out, image.width(), image.height(), withAlpha, rows.data());
+  png_destroy_write_struct(&png, &info);
+  if (!ok) throw std::runtime_error(std::string("encodePng: ") + error.message);
+  return out;
 }
 
 CompareResult compareImages(const Image& actual, const Image& reference, const CompareOptions& options) {

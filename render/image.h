@@ -31,14 +31,10 @@ private:
   std::vector<Eigen::Vector4f> pixels_;
 };
 
-// Writes an 8-bit sRGB PNG (RGB, or RGBA when withAlpha) to a temporary name beside `path`
-// and renames it into place, so a reader never sees a half-written file.
-// Throws std::runtime_error naming the path on failure.
-void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha = false);
-
-// Writes a PNG with the given bit depth (8 or 16; sRGB-encoded samples either way, alpha
-// linear), atomically as above.
-void writePng(const Image& image, const std::filesystem::path& path, bool withAlpha, int bitDepth);
+// Encodes a PNG in memory with the given bit depth (8 or 16; sRGB-encoded samples either way,
+// alpha linear; RGB, or RGBA when withAlpha). Files are written by pipeline/io (writePng there),
+// atomically. Throws std::runtime_error for an empty image or a libpng error.
+std::string encodePng(const Image& image, bool withAlpha = false, int bitDepth = 8);
 
 // Reads an 8- or 16-bit PNG (grey, grey+alpha, RGB, RGBA). Throws std::runtime_error naming
 // the path if the file is missing or not a PNG.

@@ -26,7 +26,7 @@
 #include "render/level_set_impl.h"
 
 #include <openvdb/openvdb.h>
-#include <openvdb/io/File.h>
+#include <openvdb/io/Stream.h>
 #include <openvdb/tools/Interpolation.h>
 #include <openvdb/tools/Prune.h>
 #include <openvdb/tools/SignedFloodFill.h>
@@ -44,6 +44,8 @@
 #include <limits>
 #include <stdexcept>
 #include <system_error>
+#include <istream>
+#include <ostream>
 
 namespace kurage::render {
 
@@ -559,68 +561,53 @@ TriangleMesh meshLevelSet(const LevelSet& levelSet) {
   return mesh;
 }
 
-void writeLevelSets(const std::filesystem::path& path, const std::map<std::string, const LevelSet*>& grids,
-                    double time, int frame) {
+void writeLevelSets(std::ostream& out, const std::map<std::string, const LevelSet*>& grids,
+                    const LevelSetFileInfo& info) {
   openvdb::initialize();
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  try {
-    openvdb::GridPtrVec out;
-    for (const auto& [name, levelSet] : grids) {
-      openvdb::FloatGrid::Ptr grid;
-      if (levelSet && levelSet->impl && levelSet->impl->grid) {
-        grid = levelSet->impl->grid->copy();  // shares the tree; only the name differs
-      } else {
-        grid = emptyLevelSetGrid(1.0, 3.0f);
-      }
-      grid->setName(name);
-      grid->setGridClass(openvdb::GRID_LEVEL_SET);
-      out.push_back(grid);
+  openvdb::GridPtrVec vdbGrids;
+  for (const auto& [name, levelSet] : grids) {
+    openvdb::FloatGrid::Ptr grid;
+    if (levelSet && levelSet->impl && levelSet->impl->grid) {
+      grid = levelSet->impl->grid->copy();  // shares the tree; only the name differs
+    } else {
+      grid = emptyLevelSetGrid(1.0, 3.0f);
     }
-    openvdb::MetaMap meta;
-    meta.insertMeta("kurage:time", openvdb::DoubleMetadata(time));
-    meta.insertMeta("kurage:frame", openvdb::Int32Metadata(frame));
-    openvdb::io::File file(tmp.string());
-    file.write(out, meta);
-    file.close();
-    std::filesystem::rename(tmp, path);
-  } catch (const std::exception& e) {
-    std::error_code ignored;
-    std::filesystem::remove(tmp, ignored);
-    throw std::runtime_error("cannot write level sets to " + path.string() + ": " + e.what());
+    grid->setName(name);
+    grid->setGridClass(openvdb::GRID_LEVEL_SET);
+    vdbGrids.push_back(grid);
   }
+  openvdb::MetaMap meta;
+  meta.insertMeta("kurage:time", openvdb::DoubleMetadata(info.time));
+  meta.insertMeta("kurage:frame", openvdb::Int32Metadata(info.frame));
+  for (const auto& [key, value] : info.tags) meta.insertMeta(key, openvdb::StringMetadata(value));
+  openvdb::io::Stream(out).write(vdbGrids, meta);
+  if (!out) throw std::runtime_error("cannot serialise level sets");
 }
 
-std::map<std::string, LevelSet> readLevelSets(const std::filesystem::path& path, LevelSetFileInfo* info) {
+std::map<std::string, LevelSet> readLevelSets(std::istream& in, LevelSetFileInfo* info) {
   openvdb::initialize();
-  if (!std::filesystem::is_regular_file(path)) {
-    throw std::runtime_error("cannot read level sets from " + path.string() + ": no such file");
-  }
   std::map<std::string, LevelSet> result;
-  try {
-    openvdb::io::File file(path.string());
-    file.open(/*delayLoad=*/false);  // read everything now: a truncated file must fail here
-    const openvdb::GridPtrVecPtr grids = file.getGrids();
-    const openvdb::MetaMap::Ptr meta = file.getMetadata();
-    file.close();
-    for (const openvdb::GridBase::Ptr& base : *grids) {
-      auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
-      if (!grid) continue;
-      LevelSet levelSet;
-      levelSet.impl->grid = grid;
-      result[grid->getName()] = std::move(levelSet);
-    }
-    if (info) {
-      *info = LevelSetFileInfo{};
-      if (const auto t = meta->getMetadata<openvdb::DoubleMetadata>("kurage:time")) info->time = t->value();
-      if (const auto f = meta->getMetadata<openvdb::Int32Metadata>("kurage:frame")) info->frame = f->value();
-    }
-  } catch (const std::exception& e) {
-    throw std::runtime_error("cannot read level sets from " + path.string() + ": " + e.what());
+  openvdb::io::Stream stream(in, /*delayLoad=*/false);
+  const openvdb::GridPtrVecPtr grids = stream.getGrids();
+  const openvdb::MetaMap::Ptr meta = stream.getMetadata();
+  if (!grids || !meta) throw std::runtime_error("not an OpenVDB stream");
+  for (const openvdb::GridBase::Ptr& base : *grids) {
+    auto grid = openvdb::gridPtrCast<openvdb::FloatGrid>(base);
+    if (!grid) continue;
+    LevelSet levelSet;
+    levelSet.impl->grid = grid;
+    result[grid->getName()] = std::move(levelSet);
+  }
+  if (info) {
+    *info = LevelSetFileInfo{};
+    if (const auto t = meta->getMetadata<openvdb::DoubleMetadata>("kurage:time")) info->time = t->value();
+    if (const auto f = meta->getMetadata<openvdb::Int32Metadata>("kurage:frame")) info->frame = f->value();
+    for (auto it = meta->beginMeta(); it != meta->endMeta(); ++it)
+      if (const auto text = openvdb::StringMetadata::Ptr(openvdb::DynamicPtrCast<openvdb::StringMetadata>(it->second)))
+        info->tags[it->first] = text->value();
   }
   return result;
 }
-
-std::map<std::string, LevelSet> readLevelSets(const std::filesystem::path& path) { return readLevelSets(path, nullptr); }
 
 std::string openvdbVersion() { return OPENVDB_LIBRARY_VERSION_STRING; }
 

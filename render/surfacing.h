@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <iosfwd>
 #include <map>
 #include <memory>
 #include <string>
@@ -74,23 +75,24 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
 // per-vertex normals from the level set gradient.
 TriangleMesh meshLevelSet(const LevelSet& levelSet);
 
-// Writes named level sets into one .vdb file (temporary name, then rename), with string/float
-// metadata per file (e.g. "frame", "time"). Throws std::runtime_error naming the path.
-void writeLevelSets(const std::filesystem::path& path, const std::map<std::string, const LevelSet*>& grids,
-                    double time, int frame);
-
-// Reads every float grid of a .vdb file written by writeLevelSets, keyed by grid name.
-// Throws std::runtime_error naming the path if the file is missing, truncated or not a VDB.
-std::map<std::string, LevelSet> readLevelSets(const std::filesystem::path& path);
-
-// The file metadata written by writeLevelSets ("kurage:time" seconds, "kurage:frame").
+// The file metadata of a level set file: "kurage:time" (seconds, double), "kurage:frame" (int32)
+// and string entries `tags` (pipeline/io adds the stage, scene hash and checksum).
 struct LevelSetFileInfo {
   double time = 0.0;
   int frame = 0;
+  std::map<std::string, std::string> tags;
 };
-// As above, and also returns the file metadata in *info (when not null; fields the file lacks
-// keep their defaults).
-std::map<std::string, LevelSet> readLevelSets(const std::filesystem::path& path, LevelSetFileInfo* info);
+
+// Serialises named level sets (OpenVDB stream format, one float grid each) with the metadata.
+// Files are written and read by pipeline/io (surface_file.h), which checks them first.
+// Throws std::runtime_error on failure.
+void writeLevelSets(std::ostream& out, const std::map<std::string, const LevelSet*>& grids,
+                    const LevelSetFileInfo& info);
+
+// Reads every float grid of a stream written by writeLevelSets, keyed by grid name, and the
+// metadata into *info when not null (fields the stream lacks keep their defaults). Throws
+// (std::exception) for a stream OpenVDB cannot parse.
+std::map<std::string, LevelSet> readLevelSets(std::istream& in, LevelSetFileInfo* info);
 
 // Version string of the OpenVDB library in use (for run.json).
 std::string openvdbVersion();

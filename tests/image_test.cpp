@@ -1,7 +1,8 @@
 // See image_test.h.
 #include "image_test.h"
 
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/image_file.h"
 
 #include <gtest/gtest.h>
 
@@ -37,7 +38,7 @@ void expectMatchesReference(const render::Image& actual, const std::string& name
   const fs::path reference = fs::path(KURAGE_SOURCE_DIR) / "tests/references" / (name + ".png");
   if (const char* update = std::getenv("KURAGE_UPDATE_REFERENCES"); update && std::string(update) != "0") {
     fs::create_directories(reference.parent_path());
-    render::writePng(actual, reference);
+    pipeline::writePng(actual, reference);
     std::cout << "updated reference " << reference.string() << "\n";
     return;
   }
@@ -46,7 +47,7 @@ void expectMatchesReference(const render::Image& actual, const std::string& name
   // Compare what a PNG holds: the new image quantised to 8 bits as the reference was.
   const fs::path folder = testOutputFolder(name);
   fs::create_directories(folder);
-  render::writePng(actual, folder / "new.png");
+  pipeline::writePng(actual, folder / "new.png");
   const render::Image quantised = render::readPng(folder / "new.png");
   render::CompareOptions options;
   options.pixelThreshold = tolerance.pixelThreshold;
@@ -59,7 +60,7 @@ void expectMatchesReference(const render::Image& actual, const std::string& name
     return;
   }
   fs::copy_file(reference, folder / "reference.png", fs::copy_options::overwrite_existing);
-  if (result.sizesMatch) render::writePng(render::differenceImage(quantised, expected, 10.0f), folder / "diff.png");
+  if (result.sizesMatch) pipeline::writePng(render::differenceImage(quantised, expected, 10.0f), folder / "diff.png");
   std::ostringstream summary;
   if (!result.sizesMatch)
     summary << "size " << actual.width() << "x" << actual.height() << ", reference " << expected.width() << "x"

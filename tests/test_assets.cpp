@@ -1,7 +1,7 @@
 // assets/: the material presets are valid materials for any scene slot, and the sky we ship is
 // what its generator says (bit for bit), oriented as kurage reads environment images: bright
 // around the default scenes' sun, blue overhead, ground below the horizon.
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/scene.h"
 #include "render/image.h"
 #include "render/lights.h"

@@ -1,7 +1,7 @@
 // Telescopic bodies in the simulation (label `bodies`): the stretch ratio, the dampers, muscles,
 // the collision loop and its cap, pins, Archimedes' principle, the paper's box sequence (Fig. 3)
 // and membrane (Fig. 2), and which stages a scene runs.
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/scene.h"
 #include "sim/body_shapes.h"
 #include "sim/simulation.h"

@@ -1,5 +1,6 @@
 // Particle caches: bit-exact round trips (positions far from the origin and negative included),
 // metadata, empty frames, and refusal of missing, truncated and foreign files.
+#include "pipeline/io/surface_file.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/scene.h"
 #include "pipeline/sim_frame.h"
@@ -186,8 +187,8 @@ TEST(ParticleCache, MissingTruncatedAndForeignFilesThrowNamingThePath) {
   // A valid .vdb without a "particles" grid (a level set file).
   const fs::path levelSets = dir.path() / "levelsets.vdb";
   const render::LevelSet blob = render::buildMetaballLevelSet({Eigen::Vector3f::Zero()}, render::MetaballParams{});
-  render::writeLevelSets(levelSets, {{"fluid", &blob}}, 0.0, 0);
-  expectErrorNamingPath([&] { readParticleFrame(levelSets); }, levelSets, "particles");
+  writeSurfaceFile(levelSets, {{"fluid", &blob}}, 0.0, 0, "");
+  expectErrorNamingPath([&] { readParticleFrame(levelSets); }, levelSets, "wrong kind of file");
 }
 
 TEST(ParticleCache, MissingAttributeThrowsNamingIt) {
@@ -208,6 +209,11 @@ TEST(ParticleCache, MissingAttributeThrowsNamingIt) {
     ++patched;
   }
   ASSERT_GT(patched, 0u) << "attribute name not found in the file";
+  // Re-seal the checksum, so that the reader gets past it to the missing attribute.
+  const std::string checksumKey = "kurage:checksum" + std::string("\x06\0\0\0", 4) + "string" + std::string("\x10\0\0\0", 4);
+  const size_t digits = bytes.find(checksumKey) + checksumKey.size();
+  bytes.replace(digits, 16, kChecksumPlaceholder);
+  sealChecksum(bytes, path);
   std::ofstream(path, std::ios::binary | std::ios::trunc) << bytes;
   expectErrorNamingPath([&] { readParticleFrame(path); }, path, "kind");
 }

@@ -14,7 +14,8 @@
 // measured 1.0 % of pixels beyond 0.05 and a mean error of 0.0013. A wrong material, light or
 // camera changes most pixels by more. KURAGE_UPDATE_REFERENCES=1 rewrites the references
 // (image_test.h).
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/surface_file.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/scene.h"
@@ -322,7 +323,7 @@ TEST(EndToEnd, JellyfishFrameMatchesReference) {
   const fs::path scene = test::sourceDir() / "tests/scenes/tiny_jellyfish.json";
   ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string(), dir.path() / "log.txt"), 0)
       << pipeline::readText(dir.path() / "log.txt");
-  const auto grids = render::readLevelSets(pipeline::frameFile(out / "surfaces", 6, "vdb"));
+  const auto grids = pipeline::readSurfaceFile(pipeline::frameFile(out / "surfaces", 6, "vdb"));
   EXPECT_EQ(grids.size(), 2u);
   EXPECT_TRUE(grids.count("bell") && grids.count("fluid"));
   const std::string log = pipeline::readText(dir.path() / "log.txt");

@@ -3,7 +3,7 @@
 // The farmed frames are byte-identical to `kurage run`'s and the caches hold the same contents; a
 // failed task cancels the merge, `kurage farm status` names the missing frames, and resubmitting
 // runs only the failed chunk.
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/particle_cache.h"
 
 #include "test_util.h"

@@ -1,5 +1,6 @@
 // Image I/O and comparison: PNG round trips (exact at 8 bit), 16-bit and grey+alpha decoding,
 // error reporting, atomic writes, the failing-fraction comparison and the sRGB curve.
+#include "pipeline/io/image_file.h"
 #include "render/image.h"
 
 #include "test_util.h"
@@ -59,7 +60,7 @@ TEST(Png, RoundTripIsExactForEightBitSrgbValues) {
   TempDir dir;
   const fs::path file = dir.path() / "codes.png";
   const kr::Image image = allCodesImage();
-  kr::writePng(image, file);
+  kurage::pipeline::writePng(image, file);
   const kr::Image back = kr::readPng(file);
   ASSERT_EQ(back.width(), image.width());
   ASSERT_EQ(back.height(), image.height());
@@ -74,7 +75,7 @@ TEST(Png, AlphaRoundTrip) {
   TempDir dir;
   const fs::path file = dir.path() / "alpha.png";
   const kr::Image image = allCodesImage();
-  kr::writePng(image, file, /*withAlpha=*/true);
+  kurage::pipeline::writePng(image, file, /*withAlpha=*/true);
   const kr::Image back = kr::readPng(file);
   for (int y = 0; y < image.height(); ++y)
     for (int x = 0; x < image.width(); ++x)
@@ -87,7 +88,7 @@ TEST(Png, WriteClampsOutOfRangeValues) {
   kr::Image image(2, 1);
   image.at(0, 0) = Eigen::Vector4f(-1.0f, 7.0f, 0.0f, 1.0f);
   image.at(1, 0) = Eigen::Vector4f(1.0f, 0.0f, 2.0f, 1.0f);
-  kr::writePng(image, file);
+  kurage::pipeline::writePng(image, file);
   const kr::Image back = kr::readPng(file);
   EXPECT_EQ(back.at(0, 0), Eigen::Vector4f(0.0f, 1.0f, 0.0f, 1.0f));
   EXPECT_EQ(back.at(1, 0), Eigen::Vector4f(1.0f, 0.0f, 1.0f, 1.0f));
@@ -124,7 +125,7 @@ TEST(Png, ReadingMissingFileThrowsNamingThePath) {
 TEST(Png, ReadingTruncatedFileThrowsNamingThePath) {
   TempDir dir;
   const fs::path good = dir.path() / "good.png";
-  kr::writePng(allCodesImage(), good);
+  kurage::pipeline::writePng(allCodesImage(), good);
   std::vector<char> bytes = readBytes(good);
   ASSERT_GT(bytes.size(), 100u);
   bytes.resize(bytes.size() / 2);
@@ -140,8 +141,8 @@ TEST(Png, ReadingTruncatedFileThrowsNamingThePath) {
 TEST(Png, WriteLeavesNoTemporaryFileBehind) {
   TempDir dir;
   const fs::path file = dir.path() / "frame.png";
-  kr::writePng(kr::Image(4, 3), file);
-  kr::writePng(kr::Image(5, 2), file);  // overwriting an existing file works too
+  kurage::pipeline::writePng(kr::Image(4, 3), file);
+  kurage::pipeline::writePng(kr::Image(5, 2), file);  // overwriting an existing file works too
   std::vector<fs::path> entries;
   for (const auto& entry : fs::directory_iterator(dir.path())) entries.push_back(entry.path().filename());
   ASSERT_EQ(entries.size(), 1u);
@@ -152,7 +153,7 @@ TEST(Png, WriteLeavesNoTemporaryFileBehind) {
 TEST(Png, WriteIntoMissingDirectoryThrowsNamingThePath) {
   TempDir dir;
   const fs::path file = dir.path() / "no_such_dir" / "frame.png";
-  EXPECT_NE(whatOf([&] { kr::writePng(kr::Image(2, 2), file); }).find(file.string()), std::string::npos);
+  EXPECT_NE(whatOf([&] { kurage::pipeline::writePng(kr::Image(2, 2), file); }).find(file.string()), std::string::npos);
 }
 
 TEST(Compare, IdenticalImagesPass) {

@@ -1,7 +1,7 @@
 // Figures (pipeline/studies/plot.h): the gnuplot script says what the plot describes (axes, log
 // scales, second axis, skipped values, labels taken literally), and gnuplot turns it into a PNG,
 // an SVG and a PDF whose title fits.
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/studies/plot.h"
 #include "render/image.h"
 

@@ -1,6 +1,6 @@
 // Scene loading (pipeline/scene.h): strict validation with file + JSON path, the schema kept in
 // step with the parameter structs, and the CLI refusing bad scenes before writing anything.
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/scene.h"
 #include "test_util.h"
 

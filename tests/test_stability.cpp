@@ -3,7 +3,7 @@
 // infinite value, no particle outside the container, the particle count conserved (or equal to
 // what emitters added), mechanical energy bounded by what gravity, emitters or muscles put in,
 // on scenes small enough to run in a second or two.
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "sim/simulation.h"
 #include "test_util.h"
 

@@ -1,7 +1,7 @@
 // kurage study (label `unit`): the machinery on a tiny sweep (rows, plot, summary, a failed run
 // as a row), strict study files (exit 2 naming the JSON path), JSON paths into scenes, and the
 // measures of pipeline/measures.h against answers known in closed form.
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/measures.h"
 #include "pipeline/study.h"
 #include "render/image.h"

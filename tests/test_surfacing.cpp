@@ -1,6 +1,7 @@
 // Metaball level sets: analytic radius of a single blob, a brute-force check of the summed
 // field, meshing (radius, normals, winding, components), thread-count independence, and .vdb
 // file round trips and failures.
+#include "pipeline/io/surface_file.h"
 #include "render/surfacing.h"
 
 #include <Eigen/Geometry>
@@ -299,12 +300,12 @@ TEST(LevelSetFile, RoundTripKeepsNamesValuesAndMetadata) {
   const LevelSet fluid = buildMetaballLevelSet(randomCluster(200, 2.0f, 3), kParamsA);
   const LevelSet bell = buildMetaballLevelSet({Eigen::Vector3f(5, 5, 5)}, kParamsB);
   const LevelSet none = buildMetaballLevelSet({}, kParamsA);
-  writeLevelSets(path, {{"fluid", &fluid}, {"bell", &bell}, {"emitter", &none}}, 0.4375, 7);
+  pipeline::writeSurfaceFile(path, {{"fluid", &fluid}, {"bell", &bell}, {"emitter", &none}}, 0.4375, 7, "0123456789abcdef");
   EXPECT_TRUE(fs::exists(path));
   EXPECT_FALSE(fs::exists(path.string() + ".tmp"));
 
   LevelSetFileInfo info;
-  const std::map<std::string, LevelSet> read = readLevelSets(path, &info);
+  const std::map<std::string, LevelSet> read = pipeline::readSurfaceFile(path, {"surface", "0123456789abcdef", 7}, &info);
   EXPECT_EQ(info.time, 0.4375);
   EXPECT_EQ(info.frame, 7);
   ASSERT_EQ(read.size(), 3u);
@@ -317,7 +318,8 @@ TEST(LevelSetFile, RoundTripKeepsNamesValuesAndMetadata) {
   EXPECT_EQ(sampleVoxelCentres(read.at("fluid"), lo, hi), sampleVoxelCentres(fluid, lo, hi));
   EXPECT_EQ(sampleVoxelCentres(read.at("bell"), Eigen::Vector3f::Constant(4.0f), Eigen::Vector3f::Constant(6.0f)),
             sampleVoxelCentres(bell, Eigen::Vector3f::Constant(4.0f), Eigen::Vector3f::Constant(6.0f)));
-  EXPECT_EQ(readLevelSets(path).size(), 3u);
+  EXPECT_EQ(pipeline::readSurfaceFile(path).size(), 3u);
+  EXPECT_EQ(info.tags.at("kurage:stage"), "surface");
 }
 
 // Expects `call` to throw std::runtime_error whose message names `path`.
@@ -333,26 +335,26 @@ void expectErrorNamingPath(Call call, const fs::path& path) {
 
 TEST(LevelSetFile, MissingTruncatedOrForeignFilesThrowNamingThePath) {
   TempDir dir;
-  expectErrorNamingPath([&] { readLevelSets(dir.path() / "missing.vdb"); }, dir.path() / "missing.vdb");
+  expectErrorNamingPath([&] { pipeline::readSurfaceFile(dir.path() / "missing.vdb"); }, dir.path() / "missing.vdb");
 
   const fs::path text = dir.path() / "text.vdb";
   std::ofstream(text) << "this is not a vdb file\n";
-  expectErrorNamingPath([&] { readLevelSets(text); }, text);
+  expectErrorNamingPath([&] { pipeline::readSurfaceFile(text); }, text);
 
   const fs::path good = dir.path() / "good.vdb";
   const LevelSet fluid = buildMetaballLevelSet(randomCluster(100, 2.0f, 5), kParamsA);
-  writeLevelSets(good, {{"fluid", &fluid}}, 1.0, 1);
+  pipeline::writeSurfaceFile(good, {{"fluid", &fluid}}, 1.0, 1, "");
   const auto size = fs::file_size(good);
   for (const double fraction : {0.5, 0.1, 0.9, 0.99}) {
     const fs::path cut = dir.path() / ("cut_" + std::to_string(int(fraction * 100)) + ".vdb");
     fs::copy_file(good, cut);
     fs::resize_file(cut, static_cast<uintmax_t>(double(size) * fraction));
-    expectErrorNamingPath([&] { readLevelSets(cut); }, cut);
+    expectErrorNamingPath([&] { pipeline::readSurfaceFile(cut); }, cut);
   }
 
   // Writing into a directory that does not exist fails with the path too.
   const fs::path nowhere = dir.path() / "no" / "such" / "dir.vdb";
-  expectErrorNamingPath([&] { writeLevelSets(nowhere, {{"fluid", &fluid}}, 0.0, 0); }, nowhere);
+  expectErrorNamingPath([&] { pipeline::writeSurfaceFile(nowhere, {{"fluid", &fluid}}, 0.0, 0, ""); }, nowhere);
 }
 
 TEST(LevelSetFile, VersionIsReported) {

@@ -6,7 +6,7 @@
 // in test_render_validation.cpp.
 #include "render/tracer.h"
 
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/stages.h"
 #include "test_util.h"

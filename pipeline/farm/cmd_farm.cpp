@@ -2,9 +2,9 @@
 // (pipeline/farm/farm.h).
 #include "pipeline/cli.h"
 #include "pipeline/farm/farm.h"
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/scene.h"
-#include "pipeline/video.h"
+#include "pipeline/io/video.h"
 
 #include <array>
 #include <cstdio>

@@ -1,6 +1,6 @@
 #include "pipeline/farm/farm.h"
 
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 #include "pipeline/param_visitor.h"
 
 #include <algorithm>

@@ -1,7 +1,9 @@
 #include "pipeline/io/exports.h"
 
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/surface_file.h"
 #include "pipeline/render_scene.h"
+#include "pipeline/stages.h"
 #include "render/surfacing.h"
 
 #include <algorithm>
@@ -308,7 +310,7 @@ void exportFrames(const Scene& scene, const ExportSelection& selection, const fs
     if (selection.needsSurfaces()) {
       const fs::path input = frameFile(outDir / "surfaces", f, "vdb");
       if (!fs::exists(input)) throw std::runtime_error(input.string() + ": missing; run `kurage surface` first");
-      for (const auto& [grid, levelSet] : render::readLevelSets(input)) {
+      for (const auto& [grid, levelSet] : readSurfaceFile(input, {"surface", stageHash(scene, "surface"), f})) {
         const render::TriangleMesh mesh = render::meshLevelSet(levelSet);
         fs::create_directories(exportsDir / grid);
         if (selection.meshPly) writeTextAtomic(frameFile(exportsDir / grid, f, "ply"), meshToPly(mesh));
@@ -318,7 +320,7 @@ void exportFrames(const Scene& scene, const ExportSelection& selection, const fs
     if (!particles) continue;
     const fs::path input = frameFile(outDir / "particles", f, "vdb");
     if (!fs::exists(input)) throw std::runtime_error(input.string() + ": missing; run `kurage sim` first");
-    const ParticleFrame frame = readParticleFrame(input);
+    const ParticleFrame frame = readParticleFrame(input, {"sim", stageHash(scene, "sim"), f});
     if (selection.particlesVtp || selection.particlesPly) fs::create_directories(exportsDir / "particles");
     if (selection.particlesVtp) writeTextAtomic(frameFile(exportsDir / "particles", f, "vtp"), particlesToVtp(frame));
     if (selection.particlesPly) writeTextAtomic(frameFile(exportsDir / "particles", f, "ply"), particlesToPly(frame));

@@ -1,6 +1,6 @@
 #include "pipeline/io/exr.h"
 
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 
 #include <Imath/half.h>
 #include <OpenEXR/ImfChannelList.h>
@@ -85,19 +85,17 @@ void writeExr(const fs::path& path, const render::Image& beauty, const render::F
     slice(fb, "albedo.G", Imf::HALF, p.ag, w);
     slice(fb, "albedo.B", Imf::HALF, p.ab, w);
   }
-  const fs::path tmp = temporaryPathFor(path);
+  // OpenEXR writes the temporary by its name; TempFile removes it on failure and commits it
+  // (fsync, rename, folder fsync) on success.
+  TempFile tmp(path);
   try {
-    Imf::OutputFile file(tmp.c_str(), header);
+    Imf::OutputFile file(tmp.path().c_str(), header);
     file.setFrameBuffer(fb);
     file.writePixels(h);
   } catch (const std::exception& e) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw std::runtime_error(path.string() + ": cannot write OpenEXR: " + e.what());
+    throw IoError(path.string() + ": cannot write OpenEXR: " + e.what());
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error(path.string() + ": cannot rename into place: " + ec.message());
+  tmp.commit();
 }
 
 ExrFrame readExr(const fs::path& path) {

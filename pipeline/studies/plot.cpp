@@ -1,6 +1,6 @@
 #include "pipeline/studies/plot.h"
 
-#include "pipeline/files.h"
+#include "pipeline/io/files.h"
 
 #include <cmath>
 #include <cstdio>
@@ -158,24 +158,19 @@ void writePlot(const Plot& plot, const fs::path& png) {
                  base.string().c_str());
     return;
   }
-  const PlotOutputs temporary{temporaryPathFor(finals.png), temporaryPathFor(finals.svg), temporaryPathFor(finals.pdf)};
-  const fs::path script = temporaryPathFor(base.string() + ".gp");
-  writeTextAtomic(script, gnuplotScript(plot, temporary));
-  const fs::path log = temporaryPathFor(base.string() + ".log");
-  const std::string command = "gnuplot " + script.string() + " > " + log.string() + " 2>&1";
-  const int status = std::system(command.c_str());
-  std::string message;
-  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0)) message = readText(log);
-  std::error_code ignored;
-  fs::remove(script, ignored);
-  fs::remove(log, ignored);
-  if (!message.empty() || !fs::exists(temporary.png) || !fs::exists(temporary.svg) || !fs::exists(temporary.pdf)) {
-    for (const fs::path& p : {temporary.png, temporary.svg, temporary.pdf}) fs::remove(p, ignored);
-    throw std::runtime_error(finals.png.string() + ": gnuplot failed: " + message);
-  }
-  fs::rename(temporary.png, finals.png);
-  fs::rename(temporary.svg, finals.svg);
-  fs::rename(temporary.pdf, finals.pdf);
+  // gnuplot draws into unique temporaries (pipeline/io/files.h), committed only when it succeeded.
+  TempFile pngFile(finals.png), svgFile(finals.svg), pdfFile(finals.pdf), log(base.string() + ".log");
+  const std::string command = "gnuplot > " + log.path().string() + " 2>&1";
+  FILE* gnuplot = popen(command.c_str(), "w");
+  if (!gnuplot) throw IoError(finals.png.string() + ": cannot start gnuplot");
+  const std::string script = gnuplotScript(plot, {pngFile.path(), svgFile.path(), pdfFile.path()});
+  const bool written = std::fwrite(script.data(), 1, script.size(), gnuplot) == script.size();
+  const int status = pclose(gnuplot);
+  if (!written || !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
+    throw IoError(finals.png.string() + ": gnuplot failed: " + readText(log.path()));
+  pngFile.commit();
+  svgFile.commit();
+  pdfFile.commit();
 }
 
 }  // namespace kurage::pipeline

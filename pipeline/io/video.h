@@ -1,5 +1,5 @@
 // Frames to an MP4 with the Debian `ffmpeg` program (H.264, yuv420p, the scene's fps), written
-// to a temporary name and renamed. Without ffmpeg on the PATH the frames stay and the caller
+// through pipeline/io (a unique temporary, checked, renamed). Without ffmpeg on the PATH the frames stay and the caller
 // prints the command that would encode them.
 #pragma once
 

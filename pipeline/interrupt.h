@@ -1,0 +1,28 @@
+// SIGINT and SIGTERM end a run cleanly: the handler only records the signal (and restores the
+// default action, so a second Ctrl-C ends the process at once; every final file is complete
+// either way, pipeline/io). The stages check between frames and throw Interrupted; the stage
+// command records "interrupted" in run.json, and main() exits with 128 + the signal number.
+// The recorded signal is the one piece of process-wide state in kurage: a signal handler can
+// reach nothing else.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace kurage::pipeline {
+
+class Interrupted : public std::runtime_error {
+public:
+  explicit Interrupted(int signal);
+  int signal() const { return signal_; }
+
+private:
+  int signal_;
+};
+
+// Installs the handlers for SIGINT and SIGTERM.
+void installInterruptHandlers();
+// Throws Interrupted if a signal arrived since installInterruptHandlers().
+void throwIfInterrupted();
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,135 @@
+#include "pipeline/io/files.h"
+
+#include <atomic>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+namespace kurage::pipeline {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string errnoText(int error) { return std::strerror(error); }
+
+[[noreturn]] void fail(const fs::path& target, const std::string& what, int error) {
+  throw IoError(target.string() + ": " + what + ": " + errnoText(error));
+}
+
+// Distinguishes the temporaries of one process (threads included).
+std::atomic<unsigned long> temporaryCounter{0};
+
+}  // namespace
+
+TempFile::TempFile(fs::path target) : target_(std::move(target)) {
+  const fs::path folder = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    // Built by appending: GCC 12 gives a false -Wrestrict for "." + std::string.
+    std::string name(1, '.');
+    name += target_.filename().string();
+    name += '.';
+    name += std::to_string(::getpid());
+    name += '.';
+    name += std::to_string(temporaryCounter++);
+    name += ".tmp";
+    temp_ = folder / name;
+    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd_ >= 0) return;
+    if (errno != EEXIST) fail(target_, "cannot create the temporary file " + temp_.string(), errno);
+  }
+  fail(target_, "cannot create a unique temporary file", EEXIST);
+}
+
+TempFile::~TempFile() {
+  closeFd();
+  if (!committed_) ::unlink(temp_.c_str());
+}
+
+void TempFile::closeFd() {
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+}
+
+void TempFile::write(std::string_view bytes) {
+  if (fd_ < 0) throw IoError(target_.string() + ": write after close");
+  while (!bytes.empty()) {
+    const ssize_t n = ::write(fd_, bytes.data(), bytes.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      fail(target_, "cannot write", errno);
+    }
+    if (n == 0) fail(target_, "cannot write (no progress)", EIO);
+    bytes.remove_prefix(size_t(n));
+  }
+}
+
+void TempFile::commit() {
+  if (fd_ < 0) {  // written by another program: reopen to fsync what it wrote
+    fd_ = ::open(temp_.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd_ < 0) fail(target_, "cannot reopen " + temp_.string(), errno);
+  }
+  if (::fsync(fd_) != 0) fail(target_, "cannot sync", errno);
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) fail(target_, "cannot close", errno);
+  if (::rename(temp_.c_str(), target_.c_str()) != 0) fail(target_, "cannot rename into place", errno);
+  committed_ = true;
+  syncFolder(target_.has_parent_path() ? target_.parent_path() : fs::path("."));
+}
+
+void syncFolder(const fs::path& folder) {
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) fail(folder, "cannot open the folder to sync it", errno);
+  const int synced = ::fsync(fd);
+  const int error = errno;
+  ::close(fd);
+  if (synced != 0 && error != EINVAL) fail(folder, "cannot sync the folder", error);
+}
+
+void writeFileAtomic(const fs::path& target, std::string_view bytes) {
+  TempFile file(target);
+  file.write(bytes);
+  file.commit();
+}
+
+void writeTextAtomic(const fs::path& target, const std::string& text) { writeFileAtomic(target, text); }
+
+std::string readFile(const fs::path& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) fail(path, "cannot open", errno);
+  struct stat info {};
+  if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
+    ::close(fd);
+    throw IoError(path.string() + ": not a regular file");
+  }
+  std::string bytes;
+  bytes.reserve(size_t(info.st_size));
+  char buffer[1 << 16];
+  while (true) {
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      const int error = errno;
+      ::close(fd);
+      fail(path, "cannot read", error);
+    }
+    if (n == 0) break;
+    bytes.append(buffer, size_t(n));
+  }
+  ::close(fd);
+  return bytes;
+}
+
+std::string readText(const fs::path& path) { return readFile(path); }
+
+fs::path frameFile(const fs::path& folder, int frame, const char* extension) {
+  char name[32];
+  std::snprintf(name, sizeof name, "%04d.%s", frame, extension);
+  return folder / name;
+}
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,63 @@
+// The one I/O layer: every file kurage writes goes through writeFileAtomic or TempFile, every
+// file it reads through readFile. The guarantees (docs/RELIABILITY.md):
+//  - a final name only ever holds a complete file: bytes go to a temporary beside the target,
+//    unique to the process and created exclusively (O_EXCL), every write and the close are
+//    checked, the file is fsync'ed, renamed over the target, and the folder is fsync'ed;
+//  - on any failure the temporary is removed and an IoError naming the target is thrown.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+
+namespace kurage::pipeline {
+
+// A failed read or write; the message names the file.
+class IoError : public std::runtime_error {
+public:
+  using std::runtime_error::runtime_error;
+};
+
+// A temporary file beside `target`, named ".NAME.PID.N.tmp" (unique to the process, created
+// with O_EXCL so two runs never share one). commit() fsyncs it, renames it over the target and
+// fsyncs the folder; the destructor removes it unless committed. Used directly when another
+// program (ffmpeg) writes the bytes.
+class TempFile {
+public:
+  explicit TempFile(std::filesystem::path target);
+  ~TempFile();
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+
+  const std::filesystem::path& path() const { return temp_; }
+  const std::filesystem::path& target() const { return target_; }
+  // Appends bytes; every write is checked (a full disk or a file-size limit throws).
+  void write(std::string_view bytes);
+  void commit();
+
+private:
+  void closeFd();
+  std::filesystem::path target_;
+  std::filesystem::path temp_;
+  int fd_ = -1;
+  bool committed_ = false;
+};
+
+// Writes `bytes` to `target` atomically (see above). Throws IoError naming the target.
+void writeFileAtomic(const std::filesystem::path& target, std::string_view bytes);
+
+// Writes text to `target` atomically. Throws IoError naming the path.
+void writeTextAtomic(const std::filesystem::path& target, const std::string& text);
+
+// Reads a whole file, checking every read. Throws IoError naming the path.
+std::string readFile(const std::filesystem::path& path);
+std::string readText(const std::filesystem::path& path);
+
+// fsyncs a folder (so that a rename in it is durable). Throws IoError naming it.
+void syncFolder(const std::filesystem::path& folder);
+
+// "OUT/particles/0042.vdb" style names.
+std::filesystem::path frameFile(const std::filesystem::path& folder, int frame, const char* extension);
+
+}  // namespace kurage::pipeline

@@ -1,0 +1,45 @@
+#include "pipeline/io/run_lock.h"
+
+#include "pipeline/io/files.h"
+
+#include <cerrno>
+#include <cstring>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+namespace kurage::pipeline {
+
+RunLock::RunLock(const std::filesystem::path& outDir, const std::string& command) {
+  std::error_code ec;
+  std::filesystem::create_directories(outDir, ec);
+  if (ec) throw IoError(outDir.string() + ": cannot create the output folder: " + ec.message());
+  const std::filesystem::path file = outDir / ".kurage.lock";
+  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
+  if (fd_ < 0) throw IoError(file.string() + ": cannot open the run lock: " + std::strerror(errno));
+  if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+    const int error = errno;
+    std::string holder;
+    char buffer[512];
+    const ssize_t n = ::pread(fd_, buffer, sizeof buffer - 1, 0);
+    if (n > 0) holder.assign(buffer, size_t(n));
+    while (!holder.empty() && holder.back() == '\n') holder.pop_back();
+    ::close(fd_);
+    fd_ = -1;
+    if (error == EWOULDBLOCK)
+      throw IoError(outDir.string() + ": another kurage run is writing into this folder (" +
+                    (holder.empty() ? std::string("holder unknown") : holder) +
+                    "); wait for it to end, or choose another -o");
+    throw IoError(file.string() + ": cannot take the run lock: " + std::strerror(error));
+  }
+  const std::string text = "pid " + std::to_string(::getpid()) + ": kurage " + command + "\n";
+  if (::ftruncate(fd_, 0) != 0 || ::pwrite(fd_, text.data(), text.size(), 0) != ssize_t(text.size())) {
+    // The lock itself is held; only the note naming the holder is missing.
+  }
+}
+
+RunLock::~RunLock() {
+  if (fd_ >= 0) ::close(fd_);  // releases the flock
+}
+
+}  // namespace kurage::pipeline

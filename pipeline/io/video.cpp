@@ -1,0 +1,127 @@
+#include "pipeline/io/video.h"
+
+#include "pipeline/io/files.h"
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <spawn.h>
+#include <stdexcept>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace kurage::pipeline {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Runs a program with arguments (no shell), its stdout and stderr captured together into
+// *output; returns its exit status, or -1 when it could not be run or was killed by a signal.
+int runProgram(const std::vector<std::string>& argv, std::string* output) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  int pipeFds[2];
+  if (::pipe(pipeFds) != 0) return -1;
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addclose(&actions, pipeFds[0]);
+  posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDERR_FILENO);
+  posix_spawn_file_actions_addclose(&actions, pipeFds[1]);
+  pid_t pid = 0;
+  const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  ::close(pipeFds[1]);
+  if (spawned != 0) {
+    ::close(pipeFds[0]);
+    return -1;
+  }
+  char buffer[4096];
+  while (true) {
+    const ssize_t n = ::read(pipeFds[0], buffer, sizeof buffer);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    output->append(buffer, size_t(n));
+  }
+  ::close(pipeFds[0]);
+  int status = 0;
+  while (waitpid(pid, &status, 0) != pid)
+    if (errno != EINTR) return -1;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::string trimmed(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();
+  return text;
+}
+
+}  // namespace
+
+bool onPath(const std::string& program) {
+  const char* path = std::getenv("PATH");
+  if (!path) return false;
+  std::string all(path);
+  size_t start = 0;
+  while (start <= all.size()) {
+    const size_t end = std::min(all.find(':', start), all.size());
+    const fs::path candidate = fs::path(all.substr(start, end - start)) / program;
+    if (end > start && ::access(candidate.c_str(), X_OK) == 0) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+VideoResult encodeVideo(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie) {
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g", fps);
+  std::vector<std::string> command = {
+      "ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", rate, "-start_number", std::to_string(first),
+      "-i", (framesFolder / "%04d.png").string(), "-frames:v", std::to_string(count), "-c:v", "libx264", "-pix_fmt",
+      "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-f", "mp4", movie.string()};
+  VideoResult result;
+  for (const std::string& part : command) {
+    const std::string& shown = part;
+    result.command += (result.command.empty() ? "" : " ") +
+                      (shown.find_first_of("*()%") != std::string::npos ? "'" + shown + "'" : shown);
+  }
+  if (!onPath("ffmpeg")) return result;
+  // ffmpeg writes the temporary (unique, created exclusively); the movie is accepted only when
+  // ffmpeg exits 0 and prints no error (it exits 0 after "Error writing trailer" on a full disk)
+  // and ffprobe reads back the expected number of frames.
+  TempFile temporary(movie);
+  command.back() = temporary.path().string();
+  std::string log;
+  const int status = runProgram(command, &log);
+  if (status != 0 || !trimmed(log).empty())
+    throw IoError(movie.string() + ": ffmpeg failed (exit status " + std::to_string(status) + ")" +
+                  (trimmed(log).empty() ? "" : ": " + trimmed(log)));
+  if (onPath("ffprobe")) {
+    std::string probed;
+    const int probeStatus = runProgram({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
+                                        "stream=nb_frames", "-of", "default=noprint_wrappers=1:nokey=1",
+                                        temporary.path().string()},
+                                       &probed);
+    if (probeStatus != 0 || trimmed(probed) != std::to_string(count))
+      throw IoError(movie.string() + ": the encoded movie does not check out: ffprobe " +
+                    (probeStatus != 0 ? "failed (exit status " + std::to_string(probeStatus) + ")" : "counts") + " " +
+                    trimmed(probed) + (probeStatus != 0 ? "" : " frames, expected " + std::to_string(count)));
+  } else if (std::filesystem::file_size(temporary.path()) == 0) {
+    throw IoError(movie.string() + ": ffmpeg wrote an empty file");
+  }
+  temporary.commit();
+  result.encoded = true;
+  return result;
+}
+
+void encodeVideoAndReport(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie) {
+  const VideoResult video = encodeVideo(framesFolder, first, count, fps, movie);
+  if (video.encoded)
+    std::printf("video: %s\n", movie.string().c_str());
+  else
+    std::printf("ffmpeg is not on the PATH (Debian: apt-get install ffmpeg); the frames stay in %s; to make a video: %s\n",
+                framesFolder.string().c_str(), video.command.c_str());
+}
+
+}  // namespace kurage::pipeline
