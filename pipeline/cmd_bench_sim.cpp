@@ -4,7 +4,10 @@
 // h = 1.5 l_avr and h = 2 l_avr) and thread count (1 and 2): builds a column of fluid at one
 // side of a tank three times its length, lets it collapse for `--warmup` steps (start-up
 // excluded), then times `--steps` adaptive steps and reports the mean neighbour count, ms per
-// step by stage and particle-steps per second.
+// step by stage and particle-steps per second. `--solver dfsph` (or `all`) adds rows for DFSPH
+// at the scene default tolerance (0.1 % mean density error) with boundary-particle walls, h = 2 l
+// only (its cubic spline kernel needs the larger support), with its mean iterations per step; every row
+// also reports simulated seconds per wall second and the measured mean compression.
 #include "pipeline/cli.h"
 #include "sim/simulation.h"
 
@@ -18,7 +21,7 @@ namespace kurage::pipeline {
 
 namespace {
 
-sim::SimParams damBreak(int particles, float supportRadius) {
+sim::SimParams damBreak(int particles, float supportRadius, const std::string& solver) {
   // Column nx x ny x nz with nz = 1.6 nx, ny = nx.
   const int nx = std::max(2, int(std::round(std::cbrt(particles / 1.6))));
   const int nz = std::max(2, int(std::round(particles / double(nx * nx))));
@@ -30,10 +33,19 @@ sim::SimParams damBreak(int particles, float supportRadius) {
   p.container.min = Eigen::Vector3f(0, 0, 0);
   p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
+  p.fluid.solver = solver;
+  if (solver != "wcsph") {
+    p.container.wallDensity = sim::WallDensity::BoundaryParticles;
+    p.fluid.pressureForce = sim::PressureForce::Monaghan1992;
+  }
   return p;
 }
 
 struct BenchRun {
+  std::string solver;
+  double iterations = 0;         // DFSPH: density + divergence iterations per step
+  double simulatedPerWall = 0;   // simulated seconds per wall-clock second
+  double densityError = 0;       // mean compression over the timed steps (fraction)
   size_t particles = 0;
   float hOverSpacing = 0;
   int threads = 0;
@@ -44,11 +56,13 @@ struct BenchRun {
   std::array<double, size_t(sim::Stage::Count)> stageMs{};
 };
 
-BenchRun measure(int particles, float h, int threads, int warmup, int steps) {
+BenchRun measure(int particles, float h, int threads, int warmup, int steps, const std::string& solver) {
   ThreadLimit limit(threads);
-  sim::Simulation simulation(damBreak(particles, h));
+  sim::Simulation simulation(damBreak(particles, h, solver));
   for (int i = 0; i < warmup; ++i) simulation.step(simulation.nextStepLimit().step);
   const sim::SimStats before = simulation.stats();
+  const sim::SolverStats solverBefore = simulation.solver().stats();
+  const double timeBefore = simulation.time();
   const auto start = std::chrono::steady_clock::now();
   double neighbours = 0;
   for (int i = 0; i < steps; ++i) {
@@ -59,6 +73,12 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps) {
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BenchRun r;
+  r.solver = solver;
+  const sim::SolverStats& ss = simulation.solver().stats();
+  r.iterations = double(ss.densityIterations - solverBefore.densityIterations +
+                        ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
+  r.simulatedPerWall = (simulation.time() - timeBefore) / seconds;
+  r.densityError = (simulation.stats().densityErrorSum - before.densityErrorSum) / steps;
   r.particles = simulation.particles().size();
   r.hOverSpacing = h;
   r.threads = threads;
@@ -75,9 +95,12 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps) {
 
 int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
-    std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N] [--json]\n\n"
+    std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
+                "                        [--solver wcsph|dfsph|all] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
-                "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n");
+                "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
+                "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
+                "0.1 %% mean density error): iterations per step and simulated seconds per wall second.\n");
     return 0;
   }
   const bool json = args.flag({"--json"});
@@ -87,29 +110,40 @@ int benchSim(ArgParser& args) {
   if (auto n = args.intOption({"--particles"}, 8, 100000000)) counts = {*n};
   std::vector<int> threadCounts{1, 2};
   if (auto t = args.intOption({"--threads"}, 1, 1024)) threadCounts = {*t};
+  const std::string solverChoice = args.option({"--solver"}).value_or("all");
+  std::vector<std::string> solvers;
+  if (solverChoice == "all") solvers = {"wcsph", "dfsph"};
+  else if (solverChoice == "wcsph" || solverChoice == "dfsph") solvers = {solverChoice};
+  else args.fail("--solver must be wcsph, dfsph or all");
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
                         {"warmup_steps", warmup}, {"timed_steps", steps}, {"runs", nlohmann::json::array()}};
   if (!json)
-    std::printf("%10s %6s %7s %9s %9s %8s %8s %8s %10s %9s\n", "particles", "h/l", "threads", "neighbours", "ms/step",
-                "sort", "density", "forces", "Mpsteps/s", "B/particle");
+    std::printf("%6s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %8s %9s\n", "solver", "particles", "h/l", "threads",
+                "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "sim s/s",
+                "density%");
+  for (const std::string& solver : solvers)
   for (int count : counts)
     for (float h : {1.5f, 2.0f})
       for (int threads : threadCounts) {
-        const BenchRun r = measure(count, h, threads, warmup, steps);
+        if (solver != "wcsph" && h < 2.0f) continue;
+        const BenchRun r = measure(count, h, threads, warmup, steps, solver);
         nlohmann::json stages = nlohmann::json::object();
         for (size_t s = 0; s < r.stageMs.size(); ++s) stages[std::string(sim::stageName(sim::Stage(s)))] = r.stageMs[s];
-        out["runs"].push_back({{"particles", r.particles}, {"h_over_spacing", r.hOverSpacing}, {"threads", r.threads},
+        out["runs"].push_back({{"solver", r.solver}, {"iterations_per_step", r.iterations},
+                               {"simulated_s_per_wall_s", r.simulatedPerWall}, {"mean_density_error", r.densityError},
+                               {"particles", r.particles}, {"h_over_spacing", r.hOverSpacing}, {"threads", r.threads},
                                {"mean_neighbours", r.meanNeighbours}, {"ms_per_step", r.msPerStep},
                                {"ms_per_step_by_stage", stages},
                                {"particle_steps_per_s", r.particleStepsPerSecond},
                                {"bytes_per_particle", r.bytesPerParticle}});
         if (!json) {
-          std::printf("%10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f\n", r.particles, r.hOverSpacing,
-                      r.threads, r.meanNeighbours, r.msPerStep, r.stageMs[size_t(sim::Stage::Sort)],
-                      r.stageMs[size_t(sim::Stage::Density)], r.stageMs[size_t(sim::Stage::Forces)],
-                      r.particleStepsPerSecond / 1e6, r.bytesPerParticle);
+          std::printf("%6s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %8.3f %9.3f\n",
+                      r.solver.c_str(), r.particles, r.hOverSpacing, r.threads, r.meanNeighbours, r.msPerStep,
+                      r.stageMs[size_t(sim::Stage::Sort)], r.stageMs[size_t(sim::Stage::Density)],
+                      r.stageMs[size_t(sim::Stage::Forces)], r.particleStepsPerSecond / 1e6, r.bytesPerParticle,
+                      r.iterations, r.simulatedPerWall, 100.0 * r.densityError);
           std::fflush(stdout);
         }
       }

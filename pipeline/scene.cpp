@@ -94,6 +94,14 @@ void validate(const Scene& scene, const std::string& file) {
   for (int a = 0; a < 3; ++a)
     if (!(box.max[a] > box.min[a]))
       fail("container.max", "must exceed container.min on every axis, got min " + vec(box.min) + ", max " + vec(box.max));
+  if (box.wallDensity == sim::WallDensity::BoundaryParticles && (box.max - box.min).minCoeff() < h) {
+    std::ostringstream s;
+    s << "boundary particles need a container at least one support radius h = " << h
+      << " m across on every axis (the samples behind opposite walls would overlap every particle's support "
+         "and count twice), got a size of "
+      << vec(box.max - box.min);
+    fail("container.wall_density", s.str());
+  }
   if ((box.max - box.min).minCoeff() < h) {
     std::ostringstream s;
     s << "the container is smaller than the support radius h = " << h << " m on some axis (size "

@@ -6,6 +6,7 @@
 
 #include "pipeline/param_visitor.h"
 #include "pipeline/scene.h"
+#include "sim/solvers/pressure_solver.h"
 
 namespace kurage::pipeline {
 
@@ -17,7 +18,19 @@ inline const EnumTable<sim::PressureForce> kPressureForce{{"mueller2003", sim::P
                                                           {"monaghan1992", sim::PressureForce::Monaghan1992}};
 inline const EnumTable<sim::DensitySum> kDensitySum{{"mass", sim::DensitySum::Mass}, {"volume", sim::DensitySum::Volume}};
 inline const EnumTable<sim::WallDensity> kWallDensity{{"none", sim::WallDensity::None},
-                                                      {"wall_weight", sim::WallDensity::WallWeight}};
+                                                      {"wall_weight", sim::WallDensity::WallWeight},
+                                                      {"boundary_particles", sim::WallDensity::BoundaryParticles}};
+inline const EnumTable<sim::InitialState> kInitialState{{"lattice", sim::InitialState::Lattice},
+                                                        {"hydrostatic", sim::InitialState::Hydrostatic}};
+// The pressure solvers' names come from their registry (sim/solvers/registry.cpp).
+inline const EnumTable<std::string>& solverTable() {
+  static const EnumTable<std::string> table = [] {
+    EnumTable<std::string> t;
+    for (const std::string& name : sim::pressureSolverNames()) t.emplace_back(name.c_str(), name);
+    return t;
+  }();
+  return table;
+}
 inline const EnumTable<sim::TimeStepMode> kTimeStepMode{{"fixed", sim::TimeStepMode::Fixed},
                                                         {"adaptive", sim::TimeStepMode::Adaptive}};
 
@@ -45,6 +58,27 @@ void describe(V& v, sim::FluidParams& p) {
                      "same within one phase, but a particle at the interface of a fluid and a body of another "
                      "density or spacing sees its own rest density instead of a spurious pressure "
                      "(docs/PHYSICS.md)"});
+  v.enumeration("solver", p.solver, solverTable(),
+                {"", "pressure solver: 'wcsph' (the paper: p = k_press (rho - rho0), a weakly compressible fluid "
+                     "whose compression depends on k_press) or 'dfsph' (divergence-free SPH, Bender & Koschier 2017: "
+                     "incompressible to max_density_error, whatever the step; uses the cubic spline kernel, "
+                     "support_radius 2 recommended)"});
+  v.value("max_density_error", p.maxDensityError,
+          {"%", "dfsph: the constant-density solve iterates until the mean compression is below this, in percent "
+                "of the rest density", positive()});
+  v.value("max_divergence_error", p.maxDivergenceError,
+          {"%", "dfsph: the divergence solve iterates until the mean density change over one step is below this, "
+                "in percent of the rest density", positive()});
+  v.value("max_iterations", p.maxIterations,
+          {"", "dfsph: iteration cap of the constant-density solve (a step that reaches it is counted in "
+               "run.json and warned about)", atLeast(1)});
+  v.value("max_divergence_iterations", p.maxDivergenceIterations,
+          {"", "dfsph: iteration cap of the divergence solve", atLeast(1)});
+  v.enumeration("initial_state", p.initialState, kInitialState,
+                {"", "'lattice': fluid blocks start on the rest lattice without pressure, so a column falls until "
+                     "its pressure holds it; 'hydrostatic': they start at rest in hydrostatic equilibrium "
+                     "(dfsph: the solver's pressure starts at rho0 g depth; wcsph: the lattice is compressed to "
+                     "the density whose pressure carries the column)"});
   v.value("gradient_correction", p.gradientCorrection,
           {"", "with 'monaghan1992': correct each particle's kernel gradient (Bonet & Lok 1999) so that a linear "
                "pressure field's gradient is exact on a disordered neighbourhood; particles within h of a wall or "
@@ -62,7 +96,9 @@ void describe(V& v, sim::ContainerParams& p) {
                 {"", "'none' (the paper): walls only clamp positions, so particles near a wall miss kernel mass and "
                      "crowd against it; 'wall_weight': walls add the density and pressure of a virtual particle "
                      "lattice behind them (Harada, Koshizuka & Kawaguchi 2007) and keep particle centres half a "
-                     "spacing inside"});
+                     "spacing inside; 'boundary_particles': the walls are sampled by static particles continuing "
+                     "the fluid's lattice that count in every density sum and push back with each particle's own "
+                     "pressure (Akinci et al. 2012), for both solvers"});
 }
 
 template <class V>

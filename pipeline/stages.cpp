@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iostream>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -285,12 +286,43 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
                           {"share", stepSeconds > 0.0 ? stats.stageSeconds[s] / stepSeconds : 0.0},
                           {"calls", stats.stageCalls[s]}};
     }
+  const sim::SolverStats& ss = simulation.solver().stats();
+  const double solverSteps = std::max<double>(1.0, double(ss.steps));
+  nlohmann::json solver = {
+      {"name", scene.sim.fluid.solver},
+      {"mean_density_error", stats.steps ? stats.densityErrorSum / double(stats.steps) : 0.0},
+      {"max_density_error", stats.densityErrorMax},
+      {"density_error_note", "compression measured by each step's density pass: mean over fluid particles of "
+                             "max(rho - rho0, 0) / rho0; the run's mean and largest (fractions)"}};
+  if (!simulation.solver().pressureInForces()) {
+    solver["density_solve"] = {{"mean_iterations", double(ss.densityIterations) / solverSteps},
+                               {"max_iterations", ss.maxDensityIterations},
+                               {"cap", scene.sim.fluid.maxIterations},
+                               {"cap_hits", ss.densityCapHits},
+                               {"final_error", ss.lastDensityError},
+                               {"mean_final_error", ss.sumDensityError / solverSteps},
+                               {"max_final_error", ss.maxDensityError},
+                               {"tolerance", 0.01 * scene.sim.fluid.maxDensityError}};
+    solver["divergence_solve"] = {{"mean_iterations", double(ss.divergenceIterations) / solverSteps},
+                                  {"max_iterations", ss.maxDivergenceIterations},
+                                  {"cap", scene.sim.fluid.maxDivergenceIterations},
+                                  {"cap_hits", ss.divergenceCapHits},
+                                  {"final_error", ss.lastDivergenceError},
+                                  {"tolerance", 0.01 * scene.sim.fluid.maxDivergenceError}};
+    if (ss.densityCapHits || ss.divergenceCapHits)
+      std::cerr << "kurage: warning: the " << scene.sim.fluid.solver << " solver stopped at its iteration cap in "
+                << ss.densityCapHits << " density and " << ss.divergenceCapHits << " divergence solves of "
+                << ss.steps << " steps (fluid.max_iterations " << scene.sim.fluid.maxIterations
+                << ", fluid.max_divergence_iterations " << scene.sim.fluid.maxDivergenceIterations
+                << "): the density error there is above the tolerance; see run.json stages.sim.solver\n";
+  }
+  if (const sim::BoundaryParticles* bp = simulation.boundaryParticles()) solver["boundary_particles"] = bp->size();
   const sim::StepLimit stability = simulation.stabilityLimit();
   record.data()["derived"] = {
       {"fluid_particle_mass_kg", simulation.fluidParticleMass()},
       {"fluid_particle_mass_note", "calibrated so that a particle deep inside the initial lattice has density rho0"},
       {"support_radius_m", scene.sim.fluid.supportRadiusMetres()},
-      {"speed_of_sound_m_per_s", scene.sim.fluid.speedOfSound()},
+      {"speed_of_sound_m_per_s", simulation.solver().incompressible() ? 0.0 : scene.sim.fluid.speedOfSound()},
       {"stability_bound_at_rest_s", stability.step},
       {"stability_bound_at_rest_active", sim::stepBoundName(stability.bound)},
       {"frame_count", scene.output.frameCount()}};
@@ -305,7 +337,8 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
                           {"max_step_s", stats.maxStep},
                           {"active_bound_counts", bounds},
                           {"stages_run", stagesRun},
-                          {"step_stages", stageTimes}});
+                          {"step_stages", stageTimes},
+                          {"solver", solver}});
   if (const sim::BodySystem* bodies = simulation.bodies()) {
     nlohmann::json list = nlohmann::json::array();
     for (size_t b = 0; b < scene.sim.bodies.size(); ++b)

@@ -1,5 +1,7 @@
 #include "sim/bodies.h"
 
+#include "sim/solvers/pressure_solver.h"
+
 #include "sim/fluid.h"
 
 #include <tbb/blocked_range.h>
@@ -213,7 +215,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
     const BodyParams& body = params.bodies[b];
     // Each phase's mass is calibrated at its own spacing and rest density (SPEC §1); a part with
     // its own specific gravity is a phase of its own (the mass is linear in the rest density).
-    mass_.push_back(calibratedParticleMass(body.spacingMetres(l), h, body.restDensity()));
+    mass_.push_back(calibratedParticleMass(body.spacingMetres(l), h, body.restDensity(), densityKernelOf(params.fluid)));
     restDensity_.push_back(body.restDensity());
     double gravitySum = 0.0;
     telescopicBody_.push_back(body.telescopicDensity);

@@ -5,14 +5,17 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <type_traits>
 #include <cmath>
 
 namespace kurage::sim {
 
 namespace {
-template <DensitySum Form>
-void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
-                 NeighborLists& neighbors, const WallSums& walls) {
+// Poly6 with the paper's arithmetic (no square root); other kernels through fromSquared().
+template <DensitySum Form, class Kernel>
+void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel& kernel,
+                 NeighborLists& neighbors, const WallSums& walls, const float* boundaryVolume) {
+  constexpr bool isPoly6 = std::is_same_v<Kernel, Poly6Kernel>;
   const size_t count = particles.size();
   const float* x = particles.x.data();
   const float* y = particles.y.data();
@@ -20,7 +23,7 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Poly6Ke
   const float* m = particles.mass.data();
   const float* rho0 = particles.restDensity.data();
   float* rho = particles.density.data();
-  const float h2 = poly6.h2;
+  const float h2 = kernel.h2;
   const std::vector<uint32_t>& cells = grid.cellOfSorted();
   neighbors.resize(count);
   // One task per chunk of particles: the chunk's neighbour buffer is filled in particle order.
@@ -39,32 +42,45 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Poly6Ke
       uint32_t* out = buffer.data() + begin;
       size_t found = 0;
       auto weight = [&](uint32_t j) { return Form == DensitySum::Mass ? m[j] : m[j] / rho0[j]; };
-      float sum = weight(uint32_t(i)) * h2 * h2 * h2;  // the particle itself, r = 0
+      // the particle itself, r = 0
+      float sum = weight(uint32_t(i)) * (isPoly6 ? h2 * h2 * h2 : kernel.fromSquared(0.0f));
       for (int r = 0; r < n; ++r)
         for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
           const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
           const float r2 = dx * dx + dy * dy + dz * dz;
           if (r2 >= h2 || j == i) continue;
-          const float t = h2 - r2;
-          sum += weight(j) * t * t * t;
+          if constexpr (isPoly6) {
+            const float t = h2 - r2;
+            sum += weight(j) * t * t * t;
+          } else {
+            sum += weight(j) * kernel.fromSquared(r2);
+          }
           out[found++] = j;
         }
       buffer.resize(begin + found);
       neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));
       const float scale = Form == DensitySum::Mass ? 1.0f : rho0[i];
-      rho[i] = scale * poly6.coefficient * sum;  // (3)
+      if constexpr (isPoly6) sum *= kernel.coefficient;
+      rho[i] = scale * sum;  // (3)
       if (walls.weights)
         rho[i] += (Form == DensitySum::Mass ? 1.0f : rho0[i] / walls.restDensity) *
-                  boxWallContribution(*walls.weights, walls.box, poly6.h, xi, yi, zi).density;
+                  boxWallContribution(*walls.weights, walls.box, kernel.h, xi, yi, zi).density;
+      if (boundaryVolume) rho[i] += rho0[i] * boundaryVolume[i];  // Akinci 2012, eq. 4
     }
   });
 }
 }  // namespace
 
 void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
-                    NeighborLists& neighbors, const WallSums& walls, DensitySum form) {
-  if (form == DensitySum::Mass) densityPass<DensitySum::Mass>(grid, particles, poly6, neighbors, walls);
-  else densityPass<DensitySum::Volume>(grid, particles, poly6, neighbors, walls);
+                    NeighborLists& neighbors, const WallSums& walls, DensitySum form, const float* boundaryVolume) {
+  if (form == DensitySum::Mass) densityPass<DensitySum::Mass>(grid, particles, poly6, neighbors, walls, boundaryVolume);
+  else densityPass<DensitySum::Volume>(grid, particles, poly6, neighbors, walls, boundaryVolume);
+}
+
+void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const CubicSplineKernel& cubic,
+                    NeighborLists& neighbors, const WallSums& walls, DensitySum form, const float* boundaryVolume) {
+  if (form == DensitySum::Mass) densityPass<DensitySum::Mass>(grid, particles, cubic, neighbors, walls, boundaryVolume);
+  else densityPass<DensitySum::Volume>(grid, particles, cubic, neighbors, walls, boundaryVolume);
 }
 
 void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure) {
@@ -83,10 +99,10 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
 
 namespace {
 
-template <PressureForce Form>
+template <PressureForce Form, bool Pressure>
 void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                 const ViscosityKernel& viscosity, float dynamicViscosity, const Eigen::Vector3f& gravity,
-                const WallSums& walls, const float* correction) {
+                const WallSums& walls, const float* correction, const float* boundaryGradient) {
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -130,6 +146,10 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
           ux = id[i] < id[j] ? -1.0f : 1.0f; uy = 0.0f; uz = 0.0f;
         }
         const float t = h - dist;
+        // (6): mu m_j (v_j - v_i) / rho_j * 45/(pi h^6) (h - r)
+        const float visc = mOverRho * t;
+        fvx += visc * (vx[j] - vxi); fvy += visc * (vy[j] - vyi); fvz += visc * (vz[j] - vzi);
+        if constexpr (!Pressure) continue;
         float press;
         if constexpr (Form == PressureForce::Mueller2003)
           // (5): -m_j (p_i + p_j) / (2 rho_j) * (-45/(pi h^6)) (h - r)^2 r_hat
@@ -146,18 +166,25 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
           ux = cx; uy = cy; uz = cz;
         }
         fpx += press * ux; fpy += press * uy; fpz += press * uz;
-        // (6): mu m_j (v_j - v_i) / rho_j * 45/(pi h^6) (h - r)
-        const float visc = mOverRho * t;
-        fvx += visc * (vx[j] - vxi); fvy += visc * (vy[j] - vyi); fvz += visc * (vz[j] - vzi);
       }
       float wx = 0, wy = 0, wz = 0;  // wall pressure force density
-      if (walls.weights) {
+      if (Pressure && boundaryGradient) {
+        // Boundary particles: psi_b = rho0_i V_b, p_b = p_i, rho_b = rho0_i (Akinci 2012, eq. 10).
+        const float rho0i = particles.restDensity[i];
+        float factor;
+        if constexpr (Form == PressureForce::Mueller2003) factor = pi;  // sum psi (p_i + p_b) / (2 rho_b)
+        else factor = rhoI * rho0i * (piOverRho2 + pi / (rho0i * rho0i));
+        wx -= factor * boundaryGradient[3 * i];
+        wy -= factor * boundaryGradient[3 * i + 1];
+        wz -= factor * boundaryGradient[3 * i + 2];
+      }
+      if (Pressure && walls.weights) {
         // Virtual wall particles: rest density rho0, the pressure of particle i (mirror).
         const WallContribution c = boxWallContribution(*walls.weights, walls.box, h, xi, yi, zi);
         float factor;
         if constexpr (Form == PressureForce::Mueller2003) factor = pi / walls.restDensity;
         else factor = rhoI * (piOverRho2 + pi / (walls.restDensity * walls.restDensity));
-        wx = factor * c.gradient.x(); wy = factor * c.gradient.y(); wz = factor * c.gradient.z();
+        wx += factor * c.gradient.x(); wy += factor * c.gradient.y(); wz += factor * c.gradient.z();
       }
       const float invRho = 1.0f / rhoI;
       ax[i] = (gradC * fpx + wx + lapC * fvx) * invRho + gravity.x();
@@ -172,13 +199,16 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
-                              const float* correction) {
-  if (form == PressureForce::Mueller2003)
-    accelerate<PressureForce::Mueller2003>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls,
-                                           nullptr);
+                              const float* correction, bool pressure, const float* boundaryGradient) {
+  if (!pressure)
+    accelerate<PressureForce::Monaghan1992, false>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
+                                                   walls, nullptr, nullptr);
+  else if (form == PressureForce::Mueller2003)
+    accelerate<PressureForce::Mueller2003, true>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
+                                                 walls, nullptr, boundaryGradient);
   else
-    accelerate<PressureForce::Monaghan1992>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity, walls,
-                                            correction);
+    accelerate<PressureForce::Monaghan1992, true>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
+                                                  walls, correction, boundaryGradient);
 }
 
 void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet& particles, const SpikyKernel& spiky,
@@ -214,15 +244,16 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
   });
 }
 
-float calibratedParticleMass(float spacing, float supportRadius, float restDensity) {
+float calibratedParticleMass(float spacing, float supportRadius, float restDensity, DensityKernel kernel) {
   const Poly6Kernel poly6(supportRadius);
+  const CubicSplineKernel cubic(supportRadius);
   const int reach = static_cast<int>(std::ceil(supportRadius / spacing));
   double sum = 0.0;
   for (int k = -reach; k <= reach; ++k)
     for (int j = -reach; j <= reach; ++j)
       for (int i = -reach; i <= reach; ++i) {
         const double r2 = double(spacing) * spacing * (i * i + j * j + k * k);
-        sum += poly6.fromSquared(float(r2));
+        sum += kernel == DensityKernel::Poly6 ? poly6.fromSquared(float(r2)) : cubic.fromSquared(float(r2));
       }
   return float(restDensity / sum);
 }

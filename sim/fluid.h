@@ -22,8 +22,15 @@ struct WallSums {
 // (3) rho_i = sum_j m_j W_poly6(r_ij) (+ the walls' Z(d)), or with DensitySum::Volume
 // rho_i = rho0_i sum_j (m_j / rho0_j) W_poly6(r_ij); also finds every particle's neighbours
 // (|r_ij| < h).
+// The kernel is poly6 (WCSPH, the paper) or the cubic spline (DFSPH). `boundaryVolume`, when not
+// null, holds each particle's sum_b V_b W_ib over the walls' boundary particles: rho_i gains
+// rho0_i times it (Akinci et al. 2012, boundary_particles.h).
 void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
-                    NeighborLists& neighbors, const WallSums& walls, DensitySum form = DensitySum::Mass);
+                    NeighborLists& neighbors, const WallSums& walls, DensitySum form = DensitySum::Mass,
+                    const float* boundaryVolume = nullptr);
+void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const CubicSplineKernel& cubic,
+                    NeighborLists& neighbors, const WallSums& walls, DensitySum form = DensitySum::Mass,
+                    const float* boundaryVolume = nullptr);
 
 // (4) p_i = k_press (rho_i - rho0_i), clamped at zero when the scene asks for it (SPEC §8).
 void computePressure(ParticleSet& particles, float pressureStiffness, NegativePressure negativePressure);
@@ -33,11 +40,15 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
 // (6) f_i^vis   = mu sum_j m_j (v_j - v_i) / rho_j lap W_visc(|r_ij|),  mu = rho0 nu
 // writes a_i = (f_i^press + f_i^vis) / rho_i + gravity  (force densities divided by density).
 // Two particles at the same position push each other apart along +-x, ordered by id, so the
-// result stays finite and symmetric.
+// result stays finite and symmetric. With `pressure` false only viscosity and gravity are added
+// (a solver that corrects velocities itself, DFSPH). `boundaryGradient`, when not null, holds each
+// particle's sum_b V_b grad W_spiky over the walls' boundary particles; the walls then push with
+// the particle's own pressure (mirrored: p_b = p_i, rho_b = rho0_i; Akinci et al. 2012).
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
-                              const float* correction = nullptr);
+                              const float* correction = nullptr, bool pressure = true,
+                              const float* boundaryGradient = nullptr);
 
 // Per-particle kernel gradient correction matrices (symmetric 3x3, stored as xx, yy, zz, xy, xz,
 // yz per particle): L_i = M_i^-1 with M_i = sum_j V_j (-dW_spiky/dr / r) d d^T, d = r_i - r_j,
@@ -48,6 +59,7 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
 
 // Mass that gives a particle deep inside a cubic lattice of the given spacing exactly the
 // rest density with the poly6 kernel (SPEC §1, our calibration): m = rho0 / sum_j W(r_j).
-float calibratedParticleMass(float spacing, float supportRadius, float restDensity);
+float calibratedParticleMass(float spacing, float supportRadius, float restDensity,
+                             DensityKernel kernel = DensityKernel::Poly6);
 
 }  // namespace kurage::sim

@@ -72,3 +72,46 @@ struct ViscosityKernel {
 };
 
 }  // namespace kurage::sim
+
+namespace kurage::sim {
+
+// Cubic spline kernel (Monaghan 1992) with support radius h, in the form DFSPH uses (Bender &
+// Koschier 2017, and SPlisHSPlasH): with q = r / h and sigma = 8 / (pi h^3),
+//   W(q) = sigma (6 q^3 - 6 q^2 + 1)  for q <= 1/2,   sigma 2 (1 - q)^3  for 1/2 < q < 1.
+// One kernel for the density sum and its gradient, so that the density's time derivative
+// sum_j m_j (v_i - v_j) . grad W_ij is the derivative of the density sum itself: the divergence-
+// free solver's factor (Bender & Koschier 2017, eq. 13) holds exactly. Its gradient peaks at
+// r = h / 3, well inside the nearest-neighbour distance for h = 2 l (poly6's peaks at h / sqrt 5).
+struct CubicSplineKernel {
+  float h, h2, sigma, invH;
+  explicit CubicSplineKernel(float supportRadius)
+      : h(supportRadius), h2(supportRadius * supportRadius),
+        sigma(static_cast<float>(8.0 / (std::numbers::pi * std::pow(double(supportRadius), 3)))),
+        invH(1.0f / supportRadius) {}
+  float operator()(float r) const {
+    const float q = r * invH;
+    if (q >= 1.0f) return 0.0f;
+    if (q <= 0.5f) return sigma * (6.0f * q * q * (q - 1.0f) + 1.0f);
+    const float t = 1.0f - q;
+    return sigma * 2.0f * t * t * t;
+  }
+  float fromSquared(float r2) const { return r2 >= h2 ? 0.0f : (*this)(std::sqrt(r2)); }
+  // dW/dr (<= 0): the gradient is derivative(r) * r_vec / r.
+  float derivative(float r) const {
+    const float q = r * invH;
+    if (q >= 1.0f) return 0.0f;
+    if (q <= 0.5f) return sigma * invH * q * (18.0f * q - 12.0f);
+    const float t = 1.0f - q;
+    return -6.0f * sigma * invH * t * t;
+  }
+  Eigen::Vector3f gradient(const Eigen::Vector3f& rVec) const {
+    const float r = rVec.norm();
+    if (r <= 0.0f || r >= h) return Eigen::Vector3f::Zero();
+    return derivative(r) / r * rVec;
+  }
+};
+
+// The kernel of a solver's density sum (and, for DFSPH, of its pressure gradient).
+enum class DensityKernel { Poly6, CubicSpline };
+
+}  // namespace kurage::sim

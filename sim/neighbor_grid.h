@@ -67,6 +67,10 @@ public:
   const uint32_t* begin(size_t i) const { return chunks_[i / kChunk].data() + begin_[i]; }
   const uint32_t* end(size_t i) const { return chunks_[i / kChunk].data() + end_[i]; }
   size_t count(size_t i) const { return end_[i] - begin_[i]; }
+  // Offset of particle i's list in its chunk's buffer (for per-neighbour data kept alongside).
+  uint32_t offset(size_t i) const { return begin_[i]; }
+  // Size of chunk c's buffer.
+  size_t chunkSize(size_t c) const { return chunks_[c].size(); }
   size_t totalCount() const;
   size_t memoryBytes() const;
 

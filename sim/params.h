@@ -35,6 +35,18 @@ enum class WallDensity {
   None,        // the paper's walls: only the position clamp; particles near a wall miss kernel mass
   WallWeight,  // wall weight functions (Harada, Koshizuka & Kawaguchi 2007): the density and
                // pressure contributions of a virtual particle lattice behind each wall
+  BoundaryParticles,  // wall samples with a volume psi (Akinci et al. 2012) that count in every
+                      // density sum and push back with the particle's own pressure
+                      // (sim/boundary_particles.h)
+};
+
+// How fluid blocks start (our choice, docs/PHYSICS.md "Hydrostatic start").
+enum class InitialState {
+  Lattice,      // every particle on the rest lattice with zero pressure: a column falls until its
+                // pressure holds it (the paper's start)
+  Hydrostatic,  // at rest in hydrostatic equilibrium: the solver's initial pressure is rho0 g depth
+                // (DFSPH's warm start; WCSPH: the lattice compressed to the density its equation of
+                // state needs for that pressure)
 };
 
 enum class DensitySum {
@@ -58,6 +70,17 @@ struct FluidParams {
   // a degenerate neighbourhood (free surface) keep the plain gradient.
   bool gradientCorrection = false;
   DensitySum densitySum = DensitySum::Mass;
+  // The pressure solver (sim/solvers/): "wcsph" (the paper's equation of state (4)) or "dfsph"
+  // (divergence-free SPH, Bender & Koschier 2015/2017). Names: sim::pressureSolverNames().
+  std::string solver = "wcsph";
+  // DFSPH: iterate the constant-density solve until the mean density error is below this
+  // (percent of rho0), and the divergence solve until the mean density change over one step is
+  // below max_divergence_error (percent of rho0); each at most its iteration cap.
+  float maxDensityError = 0.1f;
+  float maxDivergenceError = 0.1f;
+  int maxIterations = 100;
+  int maxDivergenceIterations = 100;
+  InitialState initialState = InitialState::Lattice;
 
   float supportRadiusMetres() const { return supportRadius * spacing; }
   float speedOfSound() const { return std::sqrt(pressureStiffness); }  // m/s

@@ -9,6 +9,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <limits>
 #include <chrono>
 #include <cmath>
 #include <sstream>
@@ -18,6 +19,8 @@ namespace kurage::sim {
 std::string_view stageName(Stage stage) {
   switch (stage) {
     case Stage::Sort: return "neighbour_sort";
+    case Stage::Boundary: return "boundary_particles";
+    case Stage::DensitySolve: return "density_solve";
     case Stage::Density: return "density";
     case Stage::TelescopicDensity: return "telescopic_density";
     case Stage::Pressure: return "pressure";
@@ -98,12 +101,18 @@ Simulation::Simulation(SimParams params)
     : params_(std::move(params)),
       poly6_(params_.fluid.supportRadiusMetres()),
       spiky_(params_.fluid.supportRadiusMetres()),
-      viscosity_(params_.fluid.supportRadiusMetres()) {
+      viscosity_(params_.fluid.supportRadiusMetres()),
+      cubic_(params_.fluid.supportRadiusMetres()) {
   const FluidParams& fluid = params_.fluid;
   if (!(fluid.spacing > 0.0f) || !(fluid.supportRadius > 0.0f) || !(fluid.restDensity > 0.0f))
     throw std::invalid_argument("simulation: spacing, support radius and rest density must be > 0");
+  solver_ = makePressureSolver(fluid);
   grid_.configure(params_.container.min, params_.container.max, fluid.supportRadiusMetres());
-  fluidMass_ = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity);
+  fluidMass_ = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity,
+                                      solver_->densityKernel());
+  if (params_.container.wallDensity == WallDensity::BoundaryParticles)
+    boundary_ = std::make_unique<BoundaryParticles>(params_.container, fluid.spacing, fluid.supportRadiusMetres(),
+                                                    fluidMass_ / fluid.restDensity);
   if (params_.container.wallDensity == WallDensity::WallWeight) {
     wallWeights_ = std::make_unique<WallWeights>(fluid.spacing, fluid.supportRadiusMetres(), fluidMass_);
     wallSums_.weights = wallWeights_.get();
@@ -116,6 +125,31 @@ Simulation::Simulation(SimParams params)
     blockPoints.push_back(latticePoints(block, fluid.spacing));
     expected += blockPoints.back().size();
   }
+  // Free surface of each block: its top lattice layer plus half a spacing (before any compression).
+  std::vector<float> tops;
+  for (const auto& points : blockPoints) {
+    float top = -std::numeric_limits<float>::infinity();
+    for (const Eigen::Vector3f& q : points) top = std::max(top, q.z());
+    tops.push_back(top + 0.5f * fluid.spacing);
+  }
+  const float g = -params_.gravity.z();
+  const bool hydrostatic = fluid.initialState == InitialState::Hydrostatic && g > 0.0f;
+  if (hydrostatic && solver_->pressureInForces()) {
+    // WCSPH: the lattice compressed vertically to the density whose pressure carries the column,
+    // rho(d) = rho0 (1 + f g d / k) with f = 1 (Monaghan's force) or 2 ((5) recovers half of grad p).
+    // A layer at height z above the block's floor z_b moves to
+    // z_b + int_{z_b}^{z} rho0 / rho(d(z')) dz' = z_b + (k / (f g)) ln((1 + a d_b) / (1 + a d)),
+    // a = f g / k, d = top - z (the uncompressed depth: the error is second order in a d).
+    const float f = fluid.pressureForce == PressureForce::Mueller2003 ? 2.0f : 1.0f;
+    const float a = f * g / fluid.pressureStiffness;
+    for (size_t b = 0; b < blockPoints.size(); ++b) {
+      float bottom = std::numeric_limits<float>::infinity();
+      for (const Eigen::Vector3f& q : blockPoints[b]) bottom = std::min(bottom, q.z());
+      const float db = tops[b] - bottom;
+      for (Eigen::Vector3f& q : blockPoints[b])
+        q.z() = bottom + std::log((1.0f + a * db) / (1.0f + a * (tops[b] - q.z()))) / a;
+    }
+  }
   for (const EmitterParams& e : params_.emitters) {
     emitters_.emplace_back(e, fluid.spacing);
     expected += emitters_.back().expectedTotal();
@@ -125,9 +159,69 @@ Simulation::Simulation(SimParams params)
     removeDisplacedFluid(particles_, fluid.spacing, params_.bodies, blockPoints);
   }
   particles_.reserve(particles_.size() + expected);
-  for (const std::vector<Eigen::Vector3f>& points : blockPoints)
-    for (const Eigen::Vector3f& q : points)
+  std::vector<float> piById;
+  for (size_t b = 0; b < blockPoints.size(); ++b)
+    for (const Eigen::Vector3f& q : blockPoints[b]) {
+      if (hydrostatic && !solver_->pressureInForces()) {
+        // DFSPH: the solver starts from p = rho0 g depth (pi = p / rho0^2, its warm start).
+        piById.resize(size_t(nextId_) + 1, 0.0f);
+        piById[size_t(nextId_)] = g * std::max(tops[b] - q.z(), 0.0f) / fluid.restDensity;
+      }
       particles_.add(q.x(), q.y(), q.z(), 0, 0, 0, fluid.restDensity, fluidMass_, nextId_++, 0);
+    }
+  if (!piById.empty()) solver_->setInitialPressure(piById);
+}
+
+SolverContext Simulation::solverContext() {
+  SolverContext c{particles_, neighbors_, params_.fluid};
+  c.supportRadius = params_.fluid.supportRadiusMetres();
+  if (boundary_) {
+    c.boundaryVolume = boundaryVolume_.data();
+    c.boundaryGradient = boundaryGradient_.data();
+  }
+  c.lastStep = lastStep_;
+  return c;
+}
+
+void Simulation::measureDensityError() {
+  const ParticleSet& p = particles_;
+  const size_t n = p.size();
+  constexpr size_t kChunk = 4096;
+  std::vector<double>& partial = errorPartial_;
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  partial.assign(2 * chunks, 0.0);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    double sum = 0.0, count = 0.0;
+    for (size_t i = c * kChunk; i < std::min(n, (c + 1) * kChunk); ++i)
+      if (p.kind[i] == 0) {
+        sum += std::max(p.density[i] - p.restDensity[i], 0.0f) / p.restDensity[i];
+        count += 1.0;
+      }
+    partial[2 * c] = sum;
+    partial[2 * c + 1] = count;
+  });
+  double sum = 0.0, count = 0.0;
+  for (size_t c = 0; c < chunks; ++c) { sum += partial[2 * c]; count += partial[2 * c + 1]; }
+  const double error = count > 0.0 ? sum / count : 0.0;
+  stats_.densityErrorSum += error;
+  stats_.densityErrorMax = std::max(stats_.densityErrorMax, error);
+}
+
+void Simulation::computeBoundaryTerms() {
+  StageTimer timer(stats_, Stage::Boundary);
+  const ParticleSet& p = particles_;
+  const size_t n = p.size();
+  boundaryVolume_.resize(n);
+  boundaryGradient_.resize(3 * n);
+  const bool cubic = solver_->densityKernel() == DensityKernel::CubicSpline;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      Eigen::Vector3f grad;
+      if (cubic) boundary_->sums(cubic_, cubic_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad);
+      else boundary_->sums(poly6_, spiky_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad);
+      boundaryGradient_[3 * i] = grad.x(); boundaryGradient_[3 * i + 1] = grad.y(); boundaryGradient_[3 * i + 2] = grad.z();
+    }
+  });
 }
 
 void Simulation::sortParticles() {
@@ -145,21 +239,33 @@ void Simulation::computeAccelerations() {
     StageTimer timer(stats_, Stage::TelescopicDensity);
     bodies_->updateRestDensity(particles_);
   }
-  {
-    StageTimer timer(stats_, Stage::Density);
-    computeDensity(grid_, particles_, poly6_, neighbors_, wallSums_, params_.fluid.densitySum);
+  const float* boundaryVolume = nullptr;
+  if (boundary_) {
+    computeBoundaryTerms();
+    boundaryVolume = boundaryVolume_.data();
   }
   {
+    StageTimer timer(stats_, Stage::Density);
+    if (solver_->densityKernel() == DensityKernel::Poly6)
+      computeDensity(grid_, particles_, poly6_, neighbors_, wallSums_, params_.fluid.densitySum, boundaryVolume);
+    else
+      computeDensity(grid_, particles_, cubic_, neighbors_, wallSums_, params_.fluid.densitySum, boundaryVolume);
+  }
+  measureDensityError();
+  {
     StageTimer timer(stats_, Stage::Pressure);
-    computePressure(particles_, params_.fluid.pressureStiffness, params_.fluid.negativePressure);
+    solver_->afterDensity(solverContext());  // (4), or DFSPH's factors and divergence solve
   }
   {
     StageTimer timer(stats_, Stage::Forces);
     const float mu = params_.fluid.restDensity * params_.fluid.kinematicViscosity;  // mu = rho0 nu
-    const bool correct = params_.fluid.gradientCorrection && params_.fluid.pressureForce == PressureForce::Monaghan1992;
+    const bool pressure = solver_->pressureInForces();
+    const bool correct = pressure && params_.fluid.gradientCorrection &&
+                         params_.fluid.pressureForce == PressureForce::Monaghan1992;
     if (correct) computeGradientCorrection(neighbors_, particles_, spiky_, params_.container, correction_);
     computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity,
-                             params_.fluid.pressureForce, wallSums_, correct ? correction_.data() : nullptr);
+                             params_.fluid.pressureForce, wallSums_, correct ? correction_.data() : nullptr, pressure,
+                             boundary_ ? boundaryGradient_.data() : nullptr);
   }
 }
 
@@ -181,9 +287,20 @@ void Simulation::integrate(float dt, double newTime) {
     ParticleSet& p = particles_;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
-        // (12) v* = v + a dt, (13) x* = x + v* dt: symplectic Euler
-        p.vx[i] += p.ax[i] * dt; p.vy[i] += p.ay[i] * dt; p.vz[i] += p.az[i] * dt;
-        p.x[i] += p.vx[i] * dt; p.y[i] += p.vy[i] * dt; p.z[i] += p.vz[i] * dt;
+        p.vx[i] += p.ax[i] * dt; p.vy[i] += p.ay[i] * dt; p.vz[i] += p.az[i] * dt;  // (12) v* = v + a dt
+      }
+    });
+  }
+  if (!solver_->pressureInForces()) {
+    StageTimer timer(stats_, Stage::DensitySolve);
+    solver_->correctVelocities(solverContext(), dt);  // DFSPH: v* made density-preserving
+  }
+  {
+    StageTimer timer(stats_, Stage::Integrate);
+    ParticleSet& p = particles_;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        p.x[i] += p.vx[i] * dt; p.y[i] += p.vy[i] * dt; p.z[i] += p.vz[i] * dt;  // (13) x* = x + v* dt: symplectic Euler
       }
     });
   }
@@ -200,6 +317,7 @@ void Simulation::integrate(float dt, double newTime) {
     enforceBoxWalls(particles_, params_.container, wallSums_.weights ? 0.5f * params_.fluid.spacing : 0.0f);  // (15)
   }
   time_ = newTime;
+  lastStep_ = dt;
   if (!emitters_.empty()) {
     StageTimer timer(stats_, Stage::Emitters);
     for (Emitter& e : emitters_) {
@@ -225,10 +343,17 @@ void Simulation::step(float dt) {
 
 namespace {
 // The inputs of the adaptive bounds in the current state (speeds, and accelerations of this step).
-StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, const BodySystem* bodies) {
-  StepInputs in;
+// The CFL bound of the solver: h / (c + |v|) for WCSPH, l / |v| for an incompressible one.
+void setCflInputs(StepInputs& in, const SimParams& params, const PressureSolver& solver) {
   in.supportRadius = params.fluid.supportRadiusMetres();
-  in.speedOfSound = params.fluid.speedOfSound();
+  in.speedOfSound = solver.incompressible() ? 0.0f : params.fluid.speedOfSound();
+  in.cflLength = solver.incompressible() ? params.fluid.spacing : 0.0f;
+}
+
+StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, const BodySystem* bodies,
+                             const PressureSolver& solver) {
+  StepInputs in;
+  setCflInputs(in, params, solver);
   in.kinematicViscosity = params.fluid.kinematicViscosity;
   in.maxSpeed = std::sqrt(maxOver(p.size(), [&](size_t i) {
     return p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
@@ -252,13 +377,12 @@ constexpr float kViscousLimitFactor = 0.125f;
 StepLimit Simulation::nextStepLimit() const {
   const TimeStepParams& ts = params_.timeStep;
   if (ts.mode == TimeStepMode::Fixed) return {ts.fixedStep, StepBound::Fixed};
-  return adaptiveStep(ts, currentStepInputs(params_, particles_, bodies_.get()));
+  return adaptiveStep(ts, currentStepInputs(params_, particles_, bodies_.get(), *solver_));
 }
 
 StepLimit Simulation::stabilityLimit() const {
   StepInputs in;
-  in.supportRadius = params_.fluid.supportRadiusMetres();
-  in.speedOfSound = params_.fluid.speedOfSound();
+  setCflInputs(in, params_, *solver_);
   in.kinematicViscosity = params_.fluid.kinematicViscosity;
   in.maxAcceleration = params_.gravity.norm();
   if (bodies_) in.springStep = bodies_->springStep();
@@ -274,7 +398,9 @@ size_t Simulation::memoryBytes() const {
     return b + p.id.capacity() * sizeof(int64_t) + p.kind.capacity() * sizeof(int32_t);
   };
   return setBytes(particles_) + setBytes(scratch_) + grid_.memoryBytes() + neighbors_.memoryBytes() +
-         order_.capacity() * sizeof(uint32_t) + (bodies_ ? bodies_->memoryBytes() : 0);
+         order_.capacity() * sizeof(uint32_t) + (bodies_ ? bodies_->memoryBytes() : 0) + solver_->memoryBytes() +
+         (boundaryVolume_.capacity() + boundaryGradient_.capacity()) * sizeof(float) +
+         (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0);
 }
 
 void Simulation::advanceTo(double t) {
@@ -293,7 +419,7 @@ void Simulation::advanceTo(double t) {
       // its energy grows 3 to 2500 times over (tests/test_stability.cpp, TooLargeFixedStep). Stop
       // instead, naming the bound, when the step exceeds a stability limit of the current state
       // (kViscousLimitFactor above).
-      const StepInputs in = currentStepInputs(params_, particles_, bodies_.get());
+      const StepInputs in = currentStepInputs(params_, particles_, bodies_.get(), *solver_);
       TimeStepParams limits = params_.timeStep;
       limits.cflFactor = limits.forceFactor = limits.springFactor = 1.0f;
       limits.viscousFactor = kViscousLimitFactor;

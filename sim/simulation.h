@@ -1,21 +1,27 @@
 // One simulation: particles, neighbour grid and parameters, advanced in the paper's step order
 // (SPEC §4). Owns all of its state; several simulations can live in one process.
 //
-// Step: 1-2 sort into buckets, 3 density, 4-5 rest density of telescopic bodies, 6 pressure,
-// 7-8 pressure and viscosity forces, 9 springs (and muscles), 10 gravity, 11 acceleration,
-// 12 v += a dt, 13 x += v dt (symplectic Euler), pins, 14 the bodies' collision loop, 15 walls;
-// then emitters add and sinks remove fluid particles. Each stage runs only when the scene needs
-// it (no bodies: no body stage; no muscles: no muscle stage; ...) and its time is recorded.
+// Step (written once, in step() and advanceTo()): 1-2 sort into buckets, the walls' boundary
+// particle sums (container.wall_density "boundary_particles"), 4-5 rest density of telescopic
+// bodies, 3 density, 6 pressure (the pressure solver's afterDensity: WCSPH's equation of state,
+// or DFSPH's factors and divergence solve), 7-8 pressure (WCSPH) and viscosity forces, 9 springs
+// (and muscles), 10 gravity, 11 acceleration, 12 v += a dt, the solver's velocity correction
+// (DFSPH's constant-density solve), 13 x += v dt (symplectic Euler), pins, 14 the bodies'
+// collision loop, 15 walls; then emitters add and sinks remove fluid particles. Each stage runs
+// only when the scene needs it (no bodies: no body stage; no muscles: no muscle stage; ...) and
+// its time is recorded. The pressure solvers live in sim/solvers/ behind one interface.
 #pragma once
 
 #include "sim/bodies.h"
 #include "sim/boundary.h"
+#include "sim/boundary_particles.h"
 #include "sim/emitter.h"
 #include "sim/fluid.h"
 #include "sim/kernels.h"
 #include "sim/neighbor_grid.h"
 #include "sim/params.h"
 #include "sim/particles.h"
+#include "sim/solvers/pressure_solver.h"
 #include "sim/time_step.h"
 
 #include <array>
@@ -33,8 +39,8 @@ public:
 };
 
 enum class Stage {
-  Sort, Density, TelescopicDensity, Pressure, Forces, Springs, Muscles, Integrate, Pins, Collisions, Walls,
-  Emitters, Sinks, Count
+  Sort, Boundary, Density, TelescopicDensity, Pressure, Forces, Springs, Muscles, Integrate, DensitySolve, Pins,
+  Collisions, Walls, Emitters, Sinks, Count
 };
 std::string_view stageName(Stage stage);
 
@@ -48,6 +54,10 @@ struct SimStats {
   uint64_t emitted = 0;         // particles spawned by emitters
   uint64_t emitterBlocked = 0;  // emitter positions skipped because a particle was there
   uint64_t removed = 0;         // particles removed by sinks
+  // Compression of the fluid measured by each step's density pass: the mean over fluid particles
+  // of max(rho_i - rho0_i, 0) / rho0_i (the error DFSPH bounds), summed over steps, and its largest.
+  double densityErrorSum = 0.0;
+  double densityErrorMax = 0.0;
   bool stageRan(Stage s) const { return stageCalls[size_t(s)] > 0; }
 };
 
@@ -67,6 +77,10 @@ public:
   const BodySystem* bodies() const { return bodies_.get(); }
   // Neighbours found by the last density pass (mean count = totalCount / particles).
   const NeighborLists& neighbors() const { return neighbors_; }
+  // The pressure solver (fluid.solver) and its iteration statistics.
+  const PressureSolver& solver() const { return *solver_; }
+  // The walls' boundary particles, or null (container.wall_density other than "boundary_particles").
+  const BoundaryParticles* boundaryParticles() const { return boundary_.get(); }
 
   // Advances until time() == t exactly (the last step is shortened, and a step that would leave
   // a sliver is split in two halves). Throws SimulationError on a non-finite state.
@@ -86,7 +100,11 @@ public:
 
 private:
   void sortParticles();
+  void computeBoundaryTerms();
+  void measureDensityError();
   void computeAccelerations();
+  SolverContext solverContext();
+  void startHydrostatic(const std::vector<std::vector<Eigen::Vector3f>>& blocks, size_t firstFluid);
   void addBodyForces(float dt);
   void integrate(float dt, double newTime);
 
@@ -99,6 +117,13 @@ private:
   Poly6Kernel poly6_;
   SpikyKernel spiky_;
   ViscosityKernel viscosity_;
+  CubicSplineKernel cubic_;
+  std::unique_ptr<PressureSolver> solver_;
+  std::unique_ptr<BoundaryParticles> boundary_;
+  std::vector<float> boundaryVolume_;    // per particle: sum_b V_b W_ib (density kernel)
+  std::vector<float> boundaryGradient_;  // per particle, 3 floats: sum_b V_b grad W_ib (solver's gradient)
+  float lastStep_ = 0.0f;
+  std::vector<double> errorPartial_;     // per chunk sums of measureDensityError()
   std::unique_ptr<WallWeights> wallWeights_;
   std::unique_ptr<BodySystem> bodies_;
   WallSums wallSums_;

@@ -23,7 +23,8 @@ StepLimit adaptiveStep(const TimeStepParams& params, const StepInputs& in) {
   auto consider = [&limit](float step, StepBound bound) {
     if (std::isfinite(step) && step < limit.step) limit = {step, bound};
   };
-  consider(params.cflFactor * in.supportRadius / (in.speedOfSound + in.maxSpeed), StepBound::Cfl);
+  const float cflLength = in.cflLength > 0.0f ? in.cflLength : in.supportRadius;
+  consider(params.cflFactor * cflLength / (in.speedOfSound + in.maxSpeed), StepBound::Cfl);
   if (in.kinematicViscosity > 0.0f)
     consider(params.viscousFactor * in.supportRadius * in.supportRadius / in.kinematicViscosity, StepBound::Viscous);
   if (in.maxAcceleration > 0.0f)

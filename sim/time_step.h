@@ -25,6 +25,8 @@ struct StepLimit {
 
 struct StepInputs {
   float supportRadius = 1.5f;  // h, m
+  float cflLength = 0.0f;      // length of the CFL bound, m (0: h); an incompressible solver uses the
+                               // particle spacing and a zero speed of sound (Bender & Koschier 2017, §6)
   float speedOfSound = 1.0f;   // m/s
   float kinematicViscosity = 0.0f;
   float maxSpeed = 0.0f;       // m/s

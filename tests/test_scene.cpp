@@ -36,6 +36,19 @@ struct BadScene {
 std::ostream& operator<<(std::ostream& os, const BadScene& s) { return os << s.name; }
 
 const BadScene kBadScenes[] = {
+    {"UnknownSolver", [](json& s) { s["fluid"]["solver"] = "iisph"; }, "fluid.solver",
+     "must be one of \"wcsph\", \"dfsph\", got \"iisph\""},
+    {"ZeroDensityTolerance", [](json& s) { s["fluid"]["max_density_error"] = 0; }, "fluid.max_density_error",
+     "must be > 0, got 0"},
+    {"NegativeDivergenceTolerance", [](json& s) { s["fluid"]["max_divergence_error"] = -1; },
+     "fluid.max_divergence_error", "must be > 0, got -1"},
+    {"ZeroIterationCap", [](json& s) { s["fluid"]["max_iterations"] = 0; }, "fluid.max_iterations",
+     "must be >= 1, got 0"},
+    {"BoundaryParticlesThinContainer", [](json& s) {
+       s["container"]["wall_density"] = "boundary_particles";
+       s["container"]["max"] = {16, 1.2, 10};
+       s["fluid_blocks"][0]["max"] = {4, 1.2, 4};
+     }, "container.wall_density", "boundary particles need a container at least one support radius"},
     {"UnknownTopLevelKey", [](json& s) { s["fluids"] = json::object(); }, "fluids", "unknown key"},
     {"MisspelledNestedKey", [](json& s) { s["fluid"]["spaceing"] = 1.0; }, "fluid.spaceing",
      "unknown key (did you mean \"spacing\"?)"},

@@ -1,0 +1,209 @@
+#include "sim/solvers/dfsph.h"
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace kurage::sim {
+
+namespace {
+constexpr int kMinDensityIterations = 2;     // Bender & Koschier 2017, Algorithm 3
+constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergence solve
+constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
+}  // namespace
+
+DfsphSolver::DfsphSolver(const FluidParams& fluid)
+    : kernel_(fluid.supportRadiusMetres()), form_(fluid.densitySum),
+      maxDensityError_(0.01f * fluid.maxDensityError), maxDivergenceError_(0.01f * fluid.maxDivergenceError),
+      maxIterations_(fluid.maxIterations), maxDivergenceIterations_(fluid.maxDivergenceIterations) {}
+
+template <class F>
+double DfsphSolver::orderedSum(size_t count, F&& f) {
+  const size_t chunks = (count + NeighborLists::kChunk - 1) / NeighborLists::kChunk;
+  partial_.assign(chunks, 0.0);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    double s = 0.0;
+    const size_t last = std::min(count, (c + 1) * NeighborLists::kChunk);
+    for (size_t i = c * NeighborLists::kChunk; i < last; ++i) s += f(i);
+    partial_[c] = s;
+  });
+  double total = 0.0;
+  for (double s : partial_) total += s;
+  return total;
+}
+
+void DfsphSolver::setInitialPressure(const std::vector<float>& piById) { piById_ = piById; }
+
+void DfsphSolver::afterDensity(const SolverContext& c) {
+  ParticleSet& p = c.particles;
+  const size_t n = p.size();
+  invFactor_.resize(n);
+  active_.resize(n);
+  pi_.resize(n);
+  change_.resize(n);
+  rate_.resize(n);
+  const size_t chunks = c.neighbors.chunkCount();
+  gradients_.resize(chunks);
+  const float dRef = 2.0f * kernel_.sigma * kernel_.invH;  // largest |dW/dr|, at r = h / 3
+  tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
+    std::vector<float>& g = gradients_[ch];
+    g.resize(3 * c.neighbors.chunkSize(ch));  // capacity kept between steps
+    const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
+    for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
+      const float xi = p.x[i], yi = p.y[i], zi = p.z[i], rho0i = p.restDensity[i];
+      Eigen::Vector3f gb = Eigen::Vector3f::Zero();
+      if (c.boundaryGradient) gb = rho0i * Eigen::Vector3f(c.boundaryGradient + 3 * i);
+      Eigen::Vector3f F = 2.0f * gb, G = 2.0f * gb;  // mirrored wall: see the header
+      float S = 0.0f;
+      float* out = g.data() + 3 * size_t(c.neighbors.offset(i));
+      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, out += 3) {
+        const uint32_t j = *it;
+        const float dx = xi - p.x[j], dy = yi - p.y[j], dz = zi - p.z[j];
+        const float r = std::sqrt(dx * dx + dy * dy + dz * dz);
+        const float s = r > 1e-6f * kernel_.h ? kernel_.derivative(r) / r : 0.0f;
+        out[0] = s * dx; out[1] = s * dy; out[2] = s * dz;
+        const Eigen::Vector3f grad(out[0], out[1], out[2]);
+        const float w = form_ == DensitySum::Mass ? p.mass[j] : rho0i * p.mass[j] / p.restDensity[j];
+        F += w * grad;
+        G += p.mass[j] * grad;
+        S += w * grad.squaredNorm();
+      }
+      const float D = F.dot(G) + p.mass[i] * S;  // (2017, eq. 13)
+      const float ref = p.mass[i] * dRef;
+      invFactor_[i] = D > 1e-6f * ref * ref ? 1.0f / D : 0.0f;
+      active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i;
+    }
+  });
+  ++stats_.steps;
+  // Divergence solve on the current velocities (before the first step there is no step size for
+  // the tolerance, and the fluid starts at rest).
+  if (maxDivergenceIterations_ <= 0 || !(c.lastStep > 0.0f) || n == 0) return;
+  int iterations = 0;
+  double error = 0.0;
+  for (;;) {
+    densityRate(c);
+    const double sum = orderedSum(n, [&](size_t i) {
+      const float d = active_[i] ? std::max(rate_[i], 0.0f) : 0.0f;
+      change_[i] = d * invFactor_[i];
+      return double(d) / p.restDensity[i];
+    });
+    error = sum / double(n) * c.lastStep;
+    if (error <= maxDivergenceError_) break;
+    if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
+    applyPressure(c, change_.data(), 1.0f);  // q = dt pi^v: the step cancels (2017, eq. 16)
+    ++iterations;
+  }
+  stats_.divergenceIterations += uint64_t(iterations);
+  stats_.maxDivergenceIterations = std::max(stats_.maxDivergenceIterations, iterations);
+  stats_.lastDivergenceError = error;
+}
+
+void DfsphSolver::densityRate(const SolverContext& c) {
+  const ParticleSet& p = c.particles;
+  const size_t n = p.size();
+  tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
+    const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
+    const float* g0 = gradients_[ch].data();
+    for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
+      const float vxi = p.vx[i], vyi = p.vy[i], vzi = p.vz[i], rho0i = p.restDensity[i];
+      const float* g = g0 + 3 * size_t(c.neighbors.offset(i));
+      float sum = 0.0f;
+      if (form_ == DensitySum::Mass) {
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, g += 3) {
+          const uint32_t j = *it;
+          sum += p.mass[j] * ((vxi - p.vx[j]) * g[0] + (vyi - p.vy[j]) * g[1] + (vzi - p.vz[j]) * g[2]);
+        }
+      } else {
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, g += 3) {
+          const uint32_t j = *it;
+          sum += p.mass[j] / p.restDensity[j] *
+                 ((vxi - p.vx[j]) * g[0] + (vyi - p.vy[j]) * g[1] + (vzi - p.vz[j]) * g[2]);
+        }
+        sum *= rho0i;
+      }
+      if (c.boundaryGradient) {
+        const float* gb = c.boundaryGradient + 3 * i;
+        sum += 2.0f * rho0i * (vxi * gb[0] + vyi * gb[1] + vzi * gb[2]);  // mirrored wall at rest: see the header
+      }
+      rate_[i] = sum;  // (2017, eq. 9)
+    }
+  });
+}
+
+void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float scale) {
+  ParticleSet& p = c.particles;
+  const size_t n = p.size();
+  tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
+    const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
+    const float* g0 = gradients_[ch].data();
+    for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
+      const float ki = k[i];
+      const float* g = g0 + 3 * size_t(c.neighbors.offset(i));
+      float ax = 0.0f, ay = 0.0f, az = 0.0f;
+      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, g += 3) {
+        const uint32_t j = *it;
+        const float s = p.mass[j] * (ki + k[j]);
+        ax += s * g[0]; ay += s * g[1]; az += s * g[2];
+      }
+      if (c.boundaryGradient) {
+        const float* gb = c.boundaryGradient + 3 * i;
+        const float s = 2.0f * p.restDensity[i] * ki;  // psi_b (pi_i + pi_b), pi_b = pi_i
+        ax += s * gb[0]; ay += s * gb[1]; az += s * gb[2];
+      }
+      p.vx[i] -= scale * ax; p.vy[i] -= scale * ay; p.vz[i] -= scale * az;  // (2017, eq. 7)
+    }
+  });
+}
+
+void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
+  ParticleSet& p = c.particles;
+  const size_t n = p.size();
+  if (n == 0) return;
+  bool warm = false;
+  for (size_t i = 0; i < n; ++i) {
+    const size_t id = size_t(p.id[i]);
+    pi_[i] = id < piById_.size() ? piById_[id] : 0.0f;
+    warm = warm || pi_[i] != 0.0f;
+  }
+  if (warm) applyPressure(c, pi_.data(), dt);
+  const float invDt2 = 1.0f / (dt * dt);
+  int iterations = 0;
+  double error = 0.0;
+  for (;;) {
+    densityRate(c);
+    const double sum = orderedSum(n, [&](size_t i) {
+      const float e = p.density[i] + dt * rate_[i] - p.restDensity[i];  // rho*_i - rho0_i
+      const float next = std::max(0.0f, pi_[i] + kRelaxation * e * invDt2 * invFactor_[i]);
+      change_[i] = next - pi_[i];
+      return double(std::max(e, 0.0f)) / p.restDensity[i];
+    });
+    error = sum / double(n);
+    if (iterations >= kMinDensityIterations && error <= maxDensityError_) break;
+    if (iterations >= maxIterations_) { ++stats_.densityCapHits; break; }
+    applyPressure(c, change_.data(), dt);
+    for (size_t i = 0; i < n; ++i) pi_[i] += change_[i];
+    ++iterations;
+  }
+  int64_t maxId = -1;
+  for (size_t i = 0; i < n; ++i) maxId = std::max(maxId, p.id[i]);
+  piById_.assign(size_t(maxId + 1), 0.0f);
+  for (size_t i = 0; i < n; ++i) {
+    piById_[size_t(p.id[i])] = pi_[i];
+    p.pressure[i] = pi_[i] * p.density[i] * p.density[i];
+  }
+  stats_.densityIterations += uint64_t(iterations);
+  stats_.maxDensityIterations = std::max(stats_.maxDensityIterations, iterations);
+  stats_.lastDensityError = error;
+  stats_.maxDensityError = std::max(stats_.maxDensityError, error);
+  stats_.sumDensityError += error;
+}
+
+size_t DfsphSolver::memoryBytes() const {
+  size_t b = (invFactor_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity()) *
+             sizeof(float) + active_.capacity();
+  for (const auto& g : gradients_) b += g.capacity() * sizeof(float);
+  return b;
+}
+
+}  // namespace kurage::sim

@@ -1,0 +1,90 @@
+// Divergence-free SPH (Bender & Koschier, "Divergence-free smoothed particle hydrodynamics",
+// SCA 2015, and "Divergence-free SPH for incompressible and highly viscous fluids", IEEE TVCG
+// 23(3), 2017): two Jacobi-style solvers on velocities, each with a per-particle factor.
+//
+// Notation (ours, one set of equations for fluid and telescopic-body particles alike, each with
+// its own rest density rho0_i, so (8)-(10) still act): pi_i = p_i / rho_i^2, and the pressure
+// changes velocities by
+//   dv_i = -dt [ sum_j m_j (pi_i + pi_j) grad W_ij + 2 rho0_i pi_i gB_i ]        (2017, eq. 7, 10)
+// where gB_i = sum_b V_b grad W_ib over the wall's boundary particles, which carry the particle's
+// own pressure (Akinci 2012, mirrored: pi_b = pi_i, hence the 2). With a factor 1 instead, the
+// symmetric sum leaves a particle on a flat wall with no push of its own away from it: the
+// fluid-only part of sum_j m_j pi_i grad W_ij cancels the wall's term, and the neighbours above
+// press it into the wall (measured: the floor layer sank into the wall within five steps).
+// The density's rate of change, with s_i w_j = m_j (density_sum "mass") or rho0_i m_j / rho0_j
+// ("volume"):
+//   Drho_i/Dt = s_i sum_j w_j (v_i - v_j) . grad W_ij + 2 rho0_i v_i . gB_i         (2017, eq. 9)
+// The wall's term is counted twice here too (ours): the exact rate has 1, but then the system
+// the Jacobi iteration solves is not symmetric at walls and its pressure grew without bound in
+// a checkerboard along the tank's edges (measured); with 2 it is symmetric, and at rest, where
+// the velocities vanish, the result is the same.
+// and pi_i alone (Jacobi) changes it by -dt^2 pi_i D_i with the factor
+//   D_i = F_i . G_i + m_i s_i sum_j w_j |grad W_ij|^2,                              (2017, eq. 13)
+//   F_i = s_i sum_j w_j grad W_ij + 2 rho0_i gB_i,  G_i = sum_j m_j grad W_ij + 2 rho0_i gB_i.
+//
+// Divergence solve (after the density pass, on the current velocities): q_i = max(Drho_i/Dt, 0)
+// / D_i and v_i -= sum_j m_j (q_i + q_j) grad W_ij + 2 rho0_i q_i gB_i, until the mean of
+// Drho/Dt dt / rho0 is below fluid.max_divergence_error (%), at most max_divergence_iterations;
+// particles with rho_i < 0.9 rho0_i (a free surface, a splash) are left out, as SPlisHSPlasH does
+// with a neighbour count.
+//
+// Constant-density solve (on v* = v + dt a_nonpressure): the predicted density
+// rho*_i = rho_i + dt Drho_i/Dt (with v*) should be rho0_i where the particle is compressed.
+// Each iteration sets pi_i <- max(0, pi_i + w (rho*_i - rho0_i) / (dt^2 D_i)) with w = 1/2 (a
+// relaxed, projected Jacobi step as in IISPH, Ihmsen et al. 2014: pressure never pulls, and a
+// particle whose predicted density is below rest loses pressure; unrelaxed (w = 1), the
+// iteration diverged within a few steps on a still tank, measured) and applies the change; it
+// stops when the mean of
+// max(rho*_i - rho0_i, 0) / rho0_i is below fluid.max_density_error (%), after at least two
+// iterations (Bender & Koschier 2017, Alg. 3), at most max_iterations. It is warm-started with
+// each particle's pi of the previous step (kept by particle id, so sorting does not lose it),
+// or with the hydrostatic start's pressure. The particles' `pressure` is p_i = pi_i rho_i^2.
+//
+// Kernel: the cubic spline for the density sum and every gradient (kernels.h). Gradients of
+// each neighbour pair are computed once per step and reused by every iteration. Error sums
+// reduce per fixed chunk of particles, then over chunks in order: the result does not depend on
+// the number of threads.
+#pragma once
+
+#include "sim/solvers/pressure_solver.h"
+
+namespace kurage::sim {
+
+class DfsphSolver final : public PressureSolver {
+public:
+  explicit DfsphSolver(const FluidParams& fluid);
+  std::string_view name() const override { return "dfsph"; }
+  DensityKernel densityKernel() const override { return DensityKernel::CubicSpline; }
+  bool pressureInForces() const override { return false; }
+  bool incompressible() const override { return true; }
+  void afterDensity(const SolverContext& context) override;
+  void correctVelocities(const SolverContext& context, float dt) override;
+  void setInitialPressure(const std::vector<float>& piById) override;
+  const SolverStats& stats() const override { return stats_; }
+  size_t memoryBytes() const override;
+
+private:
+  // Drho_i/Dt of the current velocities, per particle, into rate_; returns nothing.
+  void densityRate(const SolverContext& c);
+  // v_i -= scale [sum_j m_j (k_i + k_j) grad W_ij + rho0_i k_i gB_i] for the per-particle k.
+  void applyPressure(const SolverContext& c, const float* k, float scale);
+  // Sum over particles of f(i) in a fixed order (per chunk, then over chunks).
+  template <class F>
+  double orderedSum(size_t count, F&& f);
+
+  CubicSplineKernel kernel_;
+  DensitySum form_;
+  float maxDensityError_, maxDivergenceError_;  // fractions
+  int maxIterations_, maxDivergenceIterations_;
+  std::vector<std::vector<float>> gradients_;  // per neighbour chunk: 3 floats per neighbour entry
+  std::vector<float> invFactor_;               // 1 / D_i (0 where D_i vanishes)
+  std::vector<float> pi_;                      // pi_i of this step
+  std::vector<float> change_;                  // per iteration: the pi (or q) change
+  std::vector<float> rate_;                    // Drho/Dt
+  std::vector<uint8_t> active_;                // divergence solve: 1 where rho_i >= 0.9 rho0_i
+  std::vector<double> partial_;                // per chunk sums
+  std::vector<float> piById_;                  // warm start, by particle id
+  SolverStats stats_;
+};
+
+}  // namespace kurage::sim

@@ -1,0 +1,40 @@
+// The pressure solvers' registry: one line per solver (sim/solvers/pressure_solver.h).
+#include "sim/solvers/dfsph.h"
+#include "sim/solvers/pressure_solver.h"
+#include "sim/solvers/wcsph.h"
+
+#include <functional>
+#include <stdexcept>
+#include <utility>
+
+namespace kurage::sim {
+
+namespace {
+using Factory = std::function<std::unique_ptr<PressureSolver>(const FluidParams&)>;
+const std::vector<std::pair<std::string, Factory>>& registry() {
+  static const std::vector<std::pair<std::string, Factory>> table{
+      {"wcsph", [](const FluidParams& f) { return std::make_unique<WcsphSolver>(f); }},
+      {"dfsph", [](const FluidParams& f) { return std::make_unique<DfsphSolver>(f); }},
+  };
+  return table;
+}
+}  // namespace
+
+const std::vector<std::string>& pressureSolverNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const auto& [name, factory] : registry()) n.push_back(name);
+    return n;
+  }();
+  return names;
+}
+
+std::unique_ptr<PressureSolver> makePressureSolver(const FluidParams& fluid) {
+  for (const auto& [name, factory] : registry())
+    if (name == fluid.solver) return factory(fluid);
+  throw std::invalid_argument("unknown pressure solver '" + fluid.solver + "'");
+}
+
+DensityKernel densityKernelOf(const FluidParams& fluid) { return makePressureSolver(fluid)->densityKernel(); }
+
+}  // namespace kurage::sim
