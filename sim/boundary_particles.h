@@ -46,16 +46,21 @@ public:
   // sum_b V_b W(|x - x_b|) and sum_b V_b grad_x W(x - x_b) for a point x, with the given density
   // kernel (fromSquared) and gradient kernel (derivative); zero for points farther than h from
   // every wall.
+  // `hydrostatic`, when not null, receives sum_b V_b (g . (x_b - x)) grad W(x - x_b) for the
+  // gravity g: the extra push of walls whose pressure is extrapolated hydrostatically from the
+  // particle's (Adami, Hu & Adams 2012 for a wall at rest: p_b = p_i + rho g . (x_b - x_i)).
   template <class DensityKernelT, class GradientKernelT>
   void sums(const DensityKernelT& w, const GradientKernelT& gradW, float px, float py, float pz, float& volumeSum,
-            Eigen::Vector3f& gradientSum) const {
+            Eigen::Vector3f& gradientSum, const Eigen::Vector3f* gravity = nullptr,
+            Eigen::Vector3f* hydrostatic = nullptr) const {
     volumeSum = 0.0f;
     gradientSum.setZero();
+    if (hydrostatic) hydrostatic->setZero();
     if (px - inner_.min.x() >= h_ && inner_.max.x() - px >= h_ && py - inner_.min.y() >= h_ &&
         inner_.max.y() - py >= h_ && pz - inner_.min.z() >= h_ && inner_.max.z() - pz >= h_)
       return;
     const Eigen::Vector3i c = cellOf(px, py, pz);
-    float vw = 0.0f, gx = 0.0f, gy = 0.0f, gz = 0.0f;
+    float vw = 0.0f, gx = 0.0f, gy = 0.0f, gz = 0.0f, hx = 0.0f, hy = 0.0f, hz = 0.0f;
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy) {
         const int cy = c.y() + dy, cz = c.z() + dz;
@@ -71,11 +76,16 @@ public:
             const float r = std::sqrt(r2);
             const float s = gradW.derivative(r) / r;
             gx += s * dx; gy += s * dy2; gz += s * dz2;
+            if (hydrostatic) {
+              const float lift = -(gravity->x() * dx + gravity->y() * dy2 + gravity->z() * dz2);  // g . (x_b - x)
+              hx += lift * s * dx; hy += lift * s * dy2; hz += lift * s * dz2;
+            }
           }
         }
       }
     volumeSum = volume_ * vw;
     gradientSum = volume_ * Eigen::Vector3f(gx, gy, gz);
+    if (hydrostatic) *hydrostatic = volume_ * Eigen::Vector3f(hx, hy, hz);
   }
 
 private:

@@ -102,7 +102,8 @@ namespace {
 template <PressureForce Form, bool Pressure>
 void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                 const ViscosityKernel& viscosity, float dynamicViscosity, const Eigen::Vector3f& gravity,
-                const WallSums& walls, const float* correction, const float* boundaryGradient) {
+                const WallSums& walls, const float* correction, const float* boundaryGradient,
+                const float* boundaryLift) {
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -169,14 +170,26 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
       }
       float wx = 0, wy = 0, wz = 0;  // wall pressure force density
       if (Pressure && boundaryGradient) {
-        // Boundary particles: psi_b = rho0_i V_b, p_b = p_i, rho_b = rho0_i (Akinci 2012, eq. 10).
+        // Boundary particles: psi_b = rho0_i V_b, rho_b = rho0_i, p_b = p_i + rho0_i g . (x_b - x_i)
+        // (Akinci 2012, eq. 10; Adami 2012's hydrostatic wall pressure): a mirrored part on
+        // sum V grad W and the hydrostatic part on sum V (g . (x_b - x_i)) grad W.
         const float rho0i = particles.restDensity[i];
-        float factor;
-        if constexpr (Form == PressureForce::Mueller2003) factor = pi;  // sum psi (p_i + p_b) / (2 rho_b)
-        else factor = rhoI * rho0i * (piOverRho2 + pi / (rho0i * rho0i));
+        float factor, liftFactor;
+        if constexpr (Form == PressureForce::Mueller2003) {  // sum psi (p_i + p_b) / (2 rho_b)
+          factor = pi;
+          liftFactor = 0.5f * rho0i;
+        } else {
+          factor = rhoI * rho0i * (piOverRho2 + pi / (rho0i * rho0i));
+          liftFactor = rhoI;
+        }
         wx -= factor * boundaryGradient[3 * i];
         wy -= factor * boundaryGradient[3 * i + 1];
         wz -= factor * boundaryGradient[3 * i + 2];
+        if (boundaryLift) {
+          wx -= liftFactor * boundaryLift[3 * i];
+          wy -= liftFactor * boundaryLift[3 * i + 1];
+          wz -= liftFactor * boundaryLift[3 * i + 2];
+        }
       }
       if (Pressure && walls.weights) {
         // Virtual wall particles: rest density rho0, the pressure of particle i (mirror).
@@ -199,16 +212,17 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
-                              const float* correction, bool pressure, const float* boundaryGradient) {
+                              const float* correction, bool pressure, const float* boundaryGradient,
+                              const float* boundaryLift) {
   if (!pressure)
     accelerate<PressureForce::Monaghan1992, false>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
-                                                   walls, nullptr, nullptr);
+                                                   walls, nullptr, nullptr, nullptr);
   else if (form == PressureForce::Mueller2003)
     accelerate<PressureForce::Mueller2003, true>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
-                                                 walls, nullptr, boundaryGradient);
+                                                 walls, nullptr, boundaryGradient, boundaryLift);
   else
     accelerate<PressureForce::Monaghan1992, true>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
-                                                  walls, correction, boundaryGradient);
+                                                  walls, correction, boundaryGradient, boundaryLift);
 }
 
 void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet& particles, const SpikyKernel& spiky,

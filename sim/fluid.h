@@ -43,12 +43,14 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
 // result stays finite and symmetric. With `pressure` false only viscosity and gravity are added
 // (a solver that corrects velocities itself, DFSPH). `boundaryGradient`, when not null, holds each
 // particle's sum_b V_b grad W_spiky over the walls' boundary particles; the walls then push with
-// the particle's own pressure (mirrored: p_b = p_i, rho_b = rho0_i; Akinci et al. 2012).
+// the particle's own pressure extrapolated hydrostatically (p_b = p_i + rho0_i g . (x_b - x_i),
+// rho_b = rho0_i; Akinci et al. 2012 with Adami, Hu & Adams 2012's wall pressure); `boundaryLift`
+// holds each particle's sum_b V_b (g . (x_b - x_i)) grad W_spiky for that second part.
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
                               const float* correction = nullptr, bool pressure = true,
-                              const float* boundaryGradient = nullptr);
+                              const float* boundaryGradient = nullptr, const float* boundaryLift = nullptr);
 
 // Per-particle kernel gradient correction matrices (symmetric 3x3, stored as xx, yy, zz, xy, xz,
 // yz per particle): L_i = M_i^-1 with M_i = sum_j V_j (-dW_spiky/dr / r) d d^T, d = r_i - r_j,

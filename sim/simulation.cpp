@@ -178,6 +178,7 @@ SolverContext Simulation::solverContext() {
   if (boundary_) {
     c.boundaryVolume = boundaryVolume_.data();
     c.boundaryGradient = boundaryGradient_.data();
+    c.boundaryLift = boundaryLift_.data();
   }
   c.lastStep = lastStep_;
   return c;
@@ -213,13 +214,16 @@ void Simulation::computeBoundaryTerms() {
   const size_t n = p.size();
   boundaryVolume_.resize(n);
   boundaryGradient_.resize(3 * n);
+  boundaryLift_.resize(3 * n);
+  const Eigen::Vector3f gravity = params_.gravity;
   const bool cubic = solver_->densityKernel() == DensityKernel::CubicSpline;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      Eigen::Vector3f grad;
-      if (cubic) boundary_->sums(cubic_, cubic_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad);
-      else boundary_->sums(poly6_, spiky_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad);
+      Eigen::Vector3f grad, lift = Eigen::Vector3f::Zero();
+      if (cubic) boundary_->sums(cubic_, cubic_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, &lift);
+      else boundary_->sums(poly6_, spiky_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, &lift);
       boundaryGradient_[3 * i] = grad.x(); boundaryGradient_[3 * i + 1] = grad.y(); boundaryGradient_[3 * i + 2] = grad.z();
+      boundaryLift_[3 * i] = lift.x(); boundaryLift_[3 * i + 1] = lift.y(); boundaryLift_[3 * i + 2] = lift.z();
     }
   });
 }
@@ -265,7 +269,10 @@ void Simulation::computeAccelerations() {
     if (correct) computeGradientCorrection(neighbors_, particles_, spiky_, params_.container, correction_);
     computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity,
                              params_.fluid.pressureForce, wallSums_, correct ? correction_.data() : nullptr, pressure,
-                             boundary_ ? boundaryGradient_.data() : nullptr);
+                             boundary_ ? boundaryGradient_.data() : nullptr,
+                             // The hydrostatic wall pressure made WCSPH's still tank worse over its first
+                             // second (surface 1.17 % / slabs 40 % against 0.71 % / 27.8 %): DFSPH only.
+                             nullptr);
   }
 }
 
@@ -398,6 +405,7 @@ size_t Simulation::memoryBytes() const {
     return b + p.id.capacity() * sizeof(int64_t) + p.kind.capacity() * sizeof(int32_t);
   };
   return setBytes(particles_) + setBytes(scratch_) + grid_.memoryBytes() + neighbors_.memoryBytes() +
+         boundaryLift_.capacity() * sizeof(float) +
          order_.capacity() * sizeof(uint32_t) + (bodies_ ? bodies_->memoryBytes() : 0) + solver_->memoryBytes() +
          (boundaryVolume_.capacity() + boundaryGradient_.capacity()) * sizeof(float) +
          (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0);

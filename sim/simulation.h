@@ -122,6 +122,7 @@ private:
   std::unique_ptr<BoundaryParticles> boundary_;
   std::vector<float> boundaryVolume_;    // per particle: sum_b V_b W_ib (density kernel)
   std::vector<float> boundaryGradient_;  // per particle, 3 floats: sum_b V_b grad W_ib (solver's gradient)
+  std::vector<float> boundaryLift_;      // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
   float lastStep_ = 0.0f;
   std::vector<double> errorPartial_;     // per chunk sums of measureDensityError()
   std::unique_ptr<WallWeights> wallWeights_;

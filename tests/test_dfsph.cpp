@@ -151,11 +151,11 @@ TEST(BoundaryParticles, ALatticeParticleAtAWallEdgeOrCornerHasTheRestDensity) {
 
 // Hydrostatic tank (the jellyfish's, 20 m of water, 1 m spacing, boundary particles, hydrostatic
 // start): free surface and interior pressure over the first second (measured: DFSPH surface within
-// 0.78 %, slabs within 10.6 %; WCSPH, k = 20000: 0.71 %, 27.8 %). The issue asks for the
+// 0.18 %, slabs within 12.7 %; WCSPH, k = 20000: 0.71 %, 27.8 %). The issue asks for the
 // *settled* tank (surface within 0.5 % with DFSPH, 3 % with WCSPH; slabs within 2 % / 3 %) at 1 m
 // and 0.5 m: not met. Over seconds the still tank gains kinetic energy with every solver and wall
-// model here (docs/PHYSICS.md "Pressure solvers": RMS speed 0.3-0.7 m/s after 3 s, WCSPH with
-// wall weights included), and DFSPH at 0.5 m spacing lifts the surface by metres.
+// model here (docs/PHYSICS.md "Pressure solvers": RMS speed 0.6 m/s after 3 s with DFSPH, 0.33 with
+// WCSPH, wall weights and nu = 3), and DFSPH at 0.5 m spacing is violent from its first steps.
 struct TankCase {
   std::string solver;
   double surfaceTolerance, pressureTolerance;  // fractions
@@ -186,7 +186,7 @@ TEST_P(HydrostaticTank, SurfaceAndInteriorPressureOverTheFirstSecond) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, HydrostaticTank,
-                         ::testing::Values(TankCase{"dfsph", 0.01, 0.15}, TankCase{"wcsph", 0.01, 0.35}),
+                         ::testing::Values(TankCase{"dfsph", 0.005, 0.15}, TankCase{"wcsph", 0.01, 0.35}),
                          [](const auto& info) { return info.param.solver; });
 
 // A hydrostatic start does not fall: over the first second the free surface moves by less than
@@ -202,7 +202,7 @@ TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
     }
     std::printf("%s: hydrostatic start, free surface moved at most %.3f m in 1 s (depth %.2f m)\n", solver.c_str(),
                 worst, start);
-    EXPECT_LT(worst, 0.01 * start) << solver;
+    EXPECT_LT(worst, 0.01 * start) << solver;  // measured 0.035 m (dfsph), 0.085 m (wcsph)
   }
 }
 
@@ -243,7 +243,7 @@ TEST(Dfsph, ReachesItsToleranceAndCountsCapHits) {
       EXPECT_EQ(s.densityCapHits, 0u);
       EXPECT_LE(s.maxDensityError, 0.001 + 1e-9);
     } else {
-      EXPECT_EQ(s.densityCapHits, s.steps) << "every step at the cap";
+      EXPECT_GE(s.densityCapHits + 1, s.steps) << "every step at the cap (but the first, from rest)";
       EXPECT_EQ(s.maxDensityIterations, 3);
     }
     const ParticleSet& q = sim.particles();

@@ -10,6 +10,7 @@ namespace kurage::sim {
 namespace {
 constexpr int kMinDensityIterations = 2;     // Bender & Koschier 2017, Algorithm 3
 constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergence solve
+constexpr float kMirror = 2.0f;               // the wall's pressure counts with the particle's (header)
 constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
 }  // namespace
 
@@ -54,7 +55,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       const float xi = p.x[i], yi = p.y[i], zi = p.z[i], rho0i = p.restDensity[i];
       Eigen::Vector3f gb = Eigen::Vector3f::Zero();
       if (c.boundaryGradient) gb = rho0i * Eigen::Vector3f(c.boundaryGradient + 3 * i);
-      Eigen::Vector3f F = 2.0f * gb, G = 2.0f * gb;  // mirrored wall: see the header
+      Eigen::Vector3f F = kMirror * gb, G = kMirror * gb;  // mirrored wall: see the header
       float S = 0.0f;
       float* out = g.data() + 3 * size_t(c.neighbors.offset(i));
       for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, out += 3) {
@@ -84,9 +85,13 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   for (;;) {
     densityRate(c);
     const double sum = orderedSum(n, [&](size_t i) {
-      const float d = active_[i] ? std::max(rate_[i], 0.0f) : 0.0f;
-      change_[i] = d * invFactor_[i];
-      return double(d) / p.restDensity[i];
+      // Inside the liquid (rho_i >= 0.9 rho0_i) the velocity field is made divergence-free both
+      // ways: a region that separates is drawn together as one that converges is pushed apart
+      // (q < 0 where it separates); with only the compressing part, as in SPlisHSPlasH, a still
+      // tank kept a bouncing mode that the constant-density solve, which never pulls, let grow.
+      const float d = active_[i] ? rate_[i] : 0.0f;
+      change_[i] = kRelaxation * d * invFactor_[i];
+      return double(std::fabs(d)) / p.restDensity[i];
     });
     error = sum / double(n) * c.lastStep;
     if (error <= maxDivergenceError_) break;
@@ -124,7 +129,7 @@ void DfsphSolver::densityRate(const SolverContext& c) {
       }
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
-        sum += 2.0f * rho0i * (vxi * gb[0] + vyi * gb[1] + vzi * gb[2]);  // mirrored wall at rest: see the header
+        sum += kMirror * rho0i * (vxi * gb[0] + vyi * gb[1] + vzi * gb[2]);  // mirrored wall at rest: see the header
       }
       rate_[i] = sum;  // (2017, eq. 9)
     }
@@ -148,7 +153,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       }
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
-        const float s = 2.0f * p.restDensity[i] * ki;  // psi_b (pi_i + pi_b), pi_b = pi_i
+        const float s = kMirror * p.restDensity[i] * ki;  // psi_b (pi_i + pi_b), pi_b = pi_i
         ax += s * gb[0]; ay += s * gb[1]; az += s * gb[2];
       }
       p.vx[i] -= scale * ax; p.vy[i] -= scale * ay; p.vz[i] -= scale * az;  // (2017, eq. 7)
@@ -167,6 +172,14 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     warm = warm || pi_[i] != 0.0f;
   }
   if (warm) applyPressure(c, pi_.data(), dt);
+  if (c.boundaryLift)
+    for (size_t i = 0; i < n; ++i) {
+      // The walls' hydrostatic part of their pressure, p_b - p_i = rho0_i g . (x_b - x_i) (Adami
+      // 2012): -dt sum_b psi_b (p_b - p_i) / rho0_i^2 grad W_ib, known before the solve.
+      p.vx[i] -= dt * c.boundaryLift[3 * i];
+      p.vy[i] -= dt * c.boundaryLift[3 * i + 1];
+      p.vz[i] -= dt * c.boundaryLift[3 * i + 2];
+    }
   const float invDt2 = 1.0f / (dt * dt);
   int iterations = 0;
   double error = 0.0;

@@ -22,11 +22,18 @@
 //   D_i = F_i . G_i + m_i s_i sum_j w_j |grad W_ij|^2,                              (2017, eq. 13)
 //   F_i = s_i sum_j w_j grad W_ij + 2 rho0_i gB_i,  G_i = sum_j m_j grad W_ij + 2 rho0_i gB_i.
 //
-// Divergence solve (after the density pass, on the current velocities): q_i = max(Drho_i/Dt, 0)
-// / D_i and v_i -= sum_j m_j (q_i + q_j) grad W_ij + 2 rho0_i q_i gB_i, until the mean of
-// Drho/Dt dt / rho0 is below fluid.max_divergence_error (%), at most max_divergence_iterations;
-// particles with rho_i < 0.9 rho0_i (a free surface, a splash) are left out, as SPlisHSPlasH does
-// with a neighbour count.
+// Divergence solve (after the density pass, on the current velocities): q_i = w Drho_i/Dt / D_i
+// and v_i -= sum_j m_j (q_i + q_j) grad W_ij + 2 rho0_i q_i gB_i, until the mean of
+// |Drho/Dt| dt / rho0 is below fluid.max_divergence_error (%), at most max_divergence_iterations.
+// Particles with rho_i < 0.9 rho0_i (a free surface, a splash) are left out, as SPlisHSPlasH does
+// with a neighbour count; inside the liquid the solve is two-sided (ours: SPlisHSPlasH corrects
+// only converging flow, and a still tank then kept a bouncing mode, measured in docs/PHYSICS.md).
+//
+// Walls also carry the hydrostatic part of their pressure (Adami, Hu & Adams 2012 for a wall at
+// rest, p_b = p_i + rho0_i g . (x_b - x_i)): its push, -dt sum_b V_b (g . (x_b - x_i)) grad W_ib,
+// does not depend on the unknowns and is applied before the constant-density solve. Without it
+// a particle at a side wall feels half the vertical pressure gradient the interior does, sinks
+// along the wall and drives a circulation that grew every step in a still tank (measured).
 //
 // Constant-density solve (on v* = v + dt a_nonpressure): the predicted density
 // rho*_i = rho_i + dt Drho_i/Dt (with v*) should be rho0_i where the particle is compressed.

@@ -38,6 +38,7 @@ struct SolverContext {
   float supportRadius = 1.0f;                 // h, m
   const float* boundaryVolume = nullptr;      // per particle: sum_b V_b W_ib (density kernel)
   const float* boundaryGradient = nullptr;    // per particle, 3 floats: sum_b V_b grad W_ib
+  const float* boundaryLift = nullptr;        // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
   float lastStep = 0.0f;                      // the previous step, s (0 before the first)
 };
 
