@@ -8,6 +8,7 @@
 #include <tbb/parallel_sort.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -57,62 +58,87 @@ std::vector<EllipsoidKernel> anisotropicKernels(const std::vector<Eigen::Vector3
   });
   tbb::parallel_sort(order.begin(), order.end());
 
+  // Positions in cell order (contiguous for the neighbour loops) and the cells' ranges.
+  std::vector<Eigen::Vector3f> sorted(n);
+  std::vector<uint64_t> cellKeys;
+  std::vector<size_t> cellBegin;  // cellBegin[c] .. cellBegin[c + 1]
+  for (size_t k = 0; k < n; ++k) {
+    sorted[k] = positions[order[k].second];
+    if (k == 0 || order[k].first != order[k - 1].first) {
+      cellKeys.push_back(order[k].first);
+      cellBegin.push_back(k);
+    }
+  }
+  cellBegin.push_back(n);
+
   const float inverseSquare = 1.0f / (radius * radius);
+  const double r2 = r * r;
   std::vector<EllipsoidKernel> kernels(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& range) {
-    std::vector<std::pair<Eigen::Vector3d, double>> neighbours;  // (x_j, w_ij)
-    for (size_t i = range.begin(); i != range.end(); ++i) {
-      const Eigen::Vector3d xi = positions[i].cast<double>();
-      int64_t c[3];
-      for (int a = 0; a < 3; ++a) c[a] = int64_t(std::floor(xi[a] * invR));
-      neighbours.clear();
-      double weightSum = 0.0;
-      Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
-      // The 27 cells around, in key order; within a cell, in index order (the sort's).
+  // Per cell: the particles of the 27 cells around it, as 9 contiguous ranges (the z-columns of
+  // cells, in key order); every particle's sums run over them in that fixed order.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, cellKeys.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t cell = range.begin(); cell != range.end(); ++cell) {
+      const uint64_t key = cellKeys[cell];
+      const uint64_t mask = (uint64_t(1) << kCellBits) - 1;
+      const int64_t cx = int64_t((key >> (2 * kCellBits)) & mask) - kCellLimit;
+      const int64_t cy = int64_t((key >> kCellBits) & mask) - kCellLimit;
+      const int64_t cz = int64_t(key & mask) - kCellLimit;
+      std::array<std::pair<size_t, size_t>, 9> columns;
+      int columnCount = 0;
       for (int64_t dx = -1; dx <= 1; ++dx)
         for (int64_t dy = -1; dy <= 1; ++dy) {
-          const uint64_t first = cellKey(c[0] + dx, c[1] + dy, c[2] - 1), last = cellKey(c[0] + dx, c[1] + dy, c[2] + 1);
-          for (auto it = std::lower_bound(order.begin(), order.end(), std::make_pair(first, uint32_t(0)));
-               it != order.end() && it->first <= last; ++it) {
-            const Eigen::Vector3d xj = positions[it->second].cast<double>();
-            const double distance = (xj - xi).norm() * invR;
-            if (distance >= 1.0) continue;
-            const double w = 1.0 - distance * distance * distance;  // w_ij
-            neighbours.emplace_back(xj, w);
-            weightSum += w;
-            weighted += w * xj;
-          }
+          const auto first = std::lower_bound(cellKeys.begin(), cellKeys.end(), cellKey(cx + dx, cy + dy, cz - 1));
+          const auto last = std::upper_bound(first, cellKeys.end(), cellKey(cx + dx, cy + dy, cz + 1));
+          if (first == last) continue;
+          columns[size_t(columnCount++)] = {cellBegin[size_t(first - cellKeys.begin())],
+                                            cellBegin[size_t(last - cellKeys.begin())]};
         }
-      const Eigen::Vector3d mean = weighted / weightSum;  // x_i^w (i itself has w = 1)
-      EllipsoidKernel& kernel = kernels[i];
-      kernel.centre = ((1.0 - params.smoothing) * xi + params.smoothing * mean).cast<float>();
-      if (int(neighbours.size()) < params.minNeighbours) {
-        kernel.shape = Eigen::Matrix3f::Identity() * inverseSquare;
-        continue;
+      for (size_t k = cellBegin[cell]; k < cellBegin[cell + 1]; ++k) {
+        const Eigen::Vector3d xi = sorted[k].cast<double>();
+        // Sums over the neighbours of w, w d and w d d^T with d = x_j - x_i (relative, so that the
+        // covariance C = sum w d d^T / W - m m^T, m = sum w d / W, keeps its precision).
+        double weightSum = 0.0;
+        Eigen::Vector3d first = Eigen::Vector3d::Zero();
+        Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+        int count = 0;
+        for (int c = 0; c < columnCount; ++c)
+          for (size_t j = columns[size_t(c)].first; j < columns[size_t(c)].second; ++j) {
+            const Eigen::Vector3d d = sorted[j].cast<double>() - xi;
+            const double d2 = d.squaredNorm();
+            if (d2 >= r2) continue;
+            const double q = std::sqrt(d2) * invR;
+            const double w = 1.0 - q * q * q;  // w_ij
+            weightSum += w;
+            first += w * d;
+            second.noalias() += w * d * d.transpose();
+            ++count;
+          }
+        const Eigen::Vector3d offset = first / weightSum;  // x_i^w - x_i (i itself has w = 1)
+        EllipsoidKernel& kernel = kernels[order[k].second];
+        kernel.centre = (xi + double(params.smoothing) * offset).cast<float>();
+        if (count < params.minNeighbours) {
+          kernel.shape = Eigen::Matrix3f::Identity() * inverseSquare;
+          continue;
+        }
+        const Eigen::Matrix3d covariance = second / weightSum - offset * offset.transpose();
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
+        eigen.computeDirect(covariance);
+        const Eigen::Vector3d s = eigen.eigenvalues();  // ascending
+        const double largest = s[2];
+        if (!(largest > 0.0)) {  // every neighbour at one point
+          kernel.shape = Eigen::Matrix3f::Identity() * inverseSquare;
+          continue;
+        }
+        Eigen::Vector3d inverseRadius2;  // 1 / a_k^2, a_k = R s~_k / s~_1
+        for (int a = 0; a < 3; ++a) {
+          const double clamped = std::max(s[a], largest / double(params.maxStretch));
+          const double axis = double(radius) * clamped / largest;
+          inverseRadius2[a] = 1.0 / (axis * axis);
+        }
+        const Eigen::Matrix3d& q = eigen.eigenvectors();
+        const Eigen::Matrix3d m = q * inverseRadius2.asDiagonal() * q.transpose();
+        kernel.shape = (0.5 * (m + m.transpose())).cast<float>();
       }
-      Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-      for (const auto& [xj, w] : neighbours) {
-        const Eigen::Vector3d d = xj - mean;
-        covariance += w * d * d.transpose();
-      }
-      covariance /= weightSum;
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen;
-      eigen.computeDirect(covariance);
-      const Eigen::Vector3d s = eigen.eigenvalues();  // ascending
-      const double largest = s[2];
-      if (!(largest > 0.0)) {  // every neighbour at one point
-        kernel.shape = Eigen::Matrix3f::Identity() * inverseSquare;
-        continue;
-      }
-      Eigen::Vector3d inverseRadius2;  // 1 / a_k^2, a_k = R s~_k / s~_1
-      for (int k = 0; k < 3; ++k) {
-        const double clamped = std::max(s[k], largest / double(params.maxStretch));
-        const double a = double(radius) * clamped / largest;
-        inverseRadius2[k] = 1.0 / (a * a);
-      }
-      const Eigen::Matrix3d& q = eigen.eigenvectors();
-      const Eigen::Matrix3d m = q * inverseRadius2.asDiagonal() * q.transpose();
-      kernel.shape = (0.5 * (m + m.transpose())).cast<float>();
     }
   });
   return kernels;
