@@ -370,6 +370,22 @@ TEST(ClipToBox, DeepInteriorCutByAFaceGetsTheExactDistanceToIt) {
   EXPECT_FLOAT_EQ(ls.sample(Eigen::Vector3f(4.75f, 4.75f, 0.0f)), background);
 }
 
+TEST(ClipToBox, SameGridForOneAndTwoThreads) {
+  const MetaballParams params = metaball(0.4f, 0.6f, 1.0f, 0.1f);
+  const std::vector<Eigen::Vector3f> particles = randomCluster(3000, 1.5f, 13);
+  const auto build = [&](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, size_t(threads));
+    LevelSet ls = buildMetaballLevelSet(particles, params);
+    intersectWithBox(ls, Eigen::Vector3f(-1.0f, -1.2f, -0.8f), Eigen::Vector3f(1.1f, 0.9f, 1.3f));
+    return ls;
+  };
+  const LevelSet one = build(1);
+  const LevelSet two = build(2);
+  EXPECT_EQ(one.activeVoxelCount(), two.activeVoxelCount());
+  const Eigen::Vector3f lo = Eigen::Vector3f::Constant(-2.0f), hi = Eigen::Vector3f::Constant(2.0f);
+  EXPECT_EQ(sampleVoxelCentres(one, lo, hi), sampleVoxelCentres(two, lo, hi));
+}
+
 TEST(ClipToBox, EmptyStaysEmptyAndABoxInsideOutThrows) {
   LevelSet empty = buildMetaballLevelSet({}, kParamsA);
   intersectWithBox(empty, Eigen::Vector3f::Zero(), Eigen::Vector3f::Ones());
