@@ -581,7 +581,13 @@ TEST(ThinBodies, RestBellHasAnOpenCavityAndAWallOfTheBuiltThickness) {
   const RestBell bell;
   ASSERT_EQ(bell.body.shape, sim::BodyShape::Shell);
   ASSERT_EQ(bell.scene.surface.bodies.kernel, MetaballKernel::Anisotropic);
-  const LevelSet ls = buildMetaballLevelSet(bell.points, bell.scene.surface.bodies);
+  // Through the surface stage's own path (kind 1 is the first body, the bell; clipped to the tank).
+  pipeline::ParticleFrame frame;
+  for (const Eigen::Vector3f& p : bell.points) {
+    frame.px.push_back(p.x()), frame.py.push_back(p.y()), frame.pz.push_back(p.z());
+    frame.kind.push_back(1);
+  }
+  const LevelSet ls = std::move(pipeline::surfaceFrame(bell.scene, frame).at(bell.body.name));
   const float h = ls.voxelSize();
   // The built wall: from half a spacing inside the inner layer to half a spacing outside the
   // outer one (each layer stands for a slab one spacing thick).
