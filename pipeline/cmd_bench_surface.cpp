@@ -14,6 +14,11 @@
 //   mesh   render::meshLevelSet of that level set
 //   vdb    render::buildParticleSpheresLevelSet (tools::ParticlesToLevelSet), sphere radius =
 //          the radius of a single blob's surface, R sqrt(1 - sqrt(T/s)) = 0.95 m
+//   clip   render::intersectWithBox of the level set with the tank [0, nx] x [0, ny] x [0, nz + 2]
+//          grown by a quarter voxel, as the surface stage clips to the container (the particles
+//          touch its walls and floor)
+//   aniso  render::buildMetaballLevelSet with anisotropic kernels (render/anisotropy.h;
+//          neighbourhood 1.5 R, smoothing 0.9, the settings of the flat-water test)
 // and reports the fastest repetition of each.
 #include "pipeline/cli.h"
 #include "pipeline/particle_cache.h"
@@ -43,6 +48,14 @@ float jitter(uint64_t index, uint64_t axis, float amplitude) {
   x ^= x >> 31;
   const double unit = double(x >> 11) * (1.0 / 9007199254740992.0);  // [0, 1)
   return float((2.0 * unit - 1.0) * amplitude);
+}
+
+// The tank's upper corner for settledTank(particles): walls at the lattice's outer faces, the
+// top 2 m above the particles.
+Eigen::Vector3f tankCorner(const ParticleFrame& frame) {
+  Eigen::Vector3f hi = Eigen::Vector3f::Zero();
+  for (size_t i = 0; i < frame.size(); ++i) hi = hi.cwiseMax(Eigen::Vector3f(frame.px[i], frame.py[i], frame.pz[i]));
+  return Eigen::Vector3f(std::round(hi.x()), std::round(hi.y()), std::round(hi.z()) + 2.0f);
 }
 
 ParticleFrame settledTank(int particles) {
@@ -75,11 +88,12 @@ struct SurfaceRun {
   size_t particles = 0;
   int threads = 0;
   double readSeconds = 1e300, levelSetSeconds = 1e300, meshSeconds = 1e300, vdbSeconds = 1e300;
+  double clipSeconds = 1e300, anisotropicSeconds = 1e300;
   size_t voxels = 0, bytes = 0, triangles = 0, vdbVoxels = 0, vdbBytes = 0;
 };
 
-SurfaceRun measure(const fs::path& cache, const render::MetaballParams& params, float sphereRadius, int threads,
-                   int repeats, bool withReference) {
+SurfaceRun measure(const fs::path& cache, const render::MetaballParams& params, float sphereRadius,
+                   const Eigen::Vector3f& tank, int threads, int repeats, bool withReference) {
   ThreadLimit limit(threads);
   SurfaceRun r;
   r.threads = threads;
@@ -98,6 +112,23 @@ SurfaceRun measure(const fs::path& cache, const render::MetaballParams& params, 
     r.levelSetSeconds = std::min(r.levelSetSeconds, secondsSince(start));
     r.voxels = levelSet.activeVoxelCount();
     r.bytes = levelSet.memoryBytes();
+
+    {
+      render::LevelSet clipped = render::buildMetaballLevelSet(fluid, params);
+      const Eigen::Vector3f margin = Eigen::Vector3f::Constant(0.25f * params.voxelSize);
+      start = std::chrono::steady_clock::now();
+      render::intersectWithBox(clipped, -margin, tank + margin);
+      r.clipSeconds = std::min(r.clipSeconds, secondsSince(start));
+    }
+    {
+      render::MetaballParams anisotropic = params;
+      anisotropic.kernel = render::MetaballKernel::Anisotropic;
+      anisotropic.anisotropy.neighbourRadius = 1.5f;
+      anisotropic.anisotropy.smoothing = 0.9f;
+      start = std::chrono::steady_clock::now();
+      const render::LevelSet ellipsoids = render::buildMetaballLevelSet(fluid, anisotropic);
+      r.anisotropicSeconds = std::min(r.anisotropicSeconds, secondsSince(start));
+    }
 
     start = std::chrono::steady_clock::now();
     const render::TriangleMesh mesh = render::meshLevelSet(levelSet);
@@ -142,7 +173,8 @@ int benchSurface(ArgParser& args) {
         "Times particle caches -> metaball level sets -> meshes for a settled tank (a jittered lattice\n"
         "block, spacing 1, blob radius 2, threshold 0.6, voxel 0.5) of about 100000 and 1000000\n"
         "particles on 1 and 2 threads, and OpenVDB's ParticlesToLevelSet on the same particles\n"
-        "(--no-reference skips it). Rates are particles per second; the fastest of --repeat runs\n"
+        "(--no-reference skips it); also the clip to the tank's walls and the level set with anisotropic\n"
+        "kernels (clip s, aniso s). Rates are particles per second; the fastest of --repeat runs\n"
         "(default 2) is reported. --particles and --threads pick one value each.\n");
     return 0;
   }
@@ -173,14 +205,17 @@ int benchSurface(ArgParser& args) {
       {"repeats", repeats},
       {"runs", nlohmann::json::array()}};
   if (!json)
-    std::printf("%9s %3s %7s %9s %9s %9s %10s %10s %9s %10s %8s %10s\n", "particles", "thr", "read s", "lset s",
-                "Mp/s lset", "Mp/s +rd", "voxels", "MB", "mesh s", "Mp/s mesh", "vdb s", "Mp/s vdb");
+    std::printf("%9s %3s %7s %9s %9s %9s %10s %10s %9s %10s %7s %8s %8s %10s\n", "particles", "thr", "read s", "lset s",
+                "Mp/s lset", "Mp/s +rd", "voxels", "MB", "mesh s", "Mp/s mesh", "clip s", "aniso s", "vdb s",
+                "Mp/s vdb");
   const ScratchDir scratch;
   for (int count : counts) {
     const fs::path cache = scratch.path() / ("tank_" + std::to_string(count) + ".vdb");
-    writeParticleFrame(cache, settledTank(count));
+    const ParticleFrame frame = settledTank(count);
+    writeParticleFrame(cache, frame);
+    const Eigen::Vector3f tank = tankCorner(frame);
     for (int threads : threadCounts) {
-      const SurfaceRun r = measure(cache, params, sphereRadius, threads, repeats, withReference);
+      const SurfaceRun r = measure(cache, params, sphereRadius, tank, threads, repeats, withReference);
       const double n = double(r.particles);
       nlohmann::json run = {
           {"particles", r.particles},
@@ -193,7 +228,9 @@ int benchSurface(ArgParser& args) {
           {"level_set_bytes", r.bytes},
           {"mesh_seconds", r.meshSeconds},
           {"mesh_triangles", r.triangles},
-          {"mesh_from_cache_particles_per_s", n / (r.readSeconds + r.levelSetSeconds + r.meshSeconds)}};
+          {"mesh_from_cache_particles_per_s", n / (r.readSeconds + r.levelSetSeconds + r.meshSeconds)},
+          {"clip_to_container_seconds", r.clipSeconds},
+          {"anisotropic_level_set_seconds", r.anisotropicSeconds}};
       if (withReference) {
         run["openvdb_seconds"] = r.vdbSeconds;
         run["openvdb_particles_per_s"] = n / r.vdbSeconds;
@@ -206,6 +243,7 @@ int benchSurface(ArgParser& args) {
                     r.readSeconds, r.levelSetSeconds, n / r.levelSetSeconds / 1e6,
                     n / (r.readSeconds + r.levelSetSeconds) / 1e6, r.voxels, r.bytes / 1e6, r.meshSeconds,
                     n / (r.readSeconds + r.levelSetSeconds + r.meshSeconds) / 1e6);
+        std::printf(" %7.3f %8.3f", r.clipSeconds, r.anisotropicSeconds);
         if (withReference)
           std::printf(" %8.3f %10.2f", r.vdbSeconds, n / r.vdbSeconds / 1e6);
         std::printf("\n");

@@ -45,6 +45,10 @@ struct SurfaceParams {
     m.voxelSize = 0.125f;
     return m;
   }();
+  // Every surface is intersected with the container (render::intersectWithBox), grown by a
+  // quarter of the grid's voxel so that the floor and the walls, drawn at the container's faces,
+  // stay in front of the water's own faces instead of coinciding with them.
+  bool clipToContainer = true;
 };
 
 // The environment as the scene file gives it (render::Environment holds the decoded image).

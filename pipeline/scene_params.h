@@ -272,6 +272,24 @@ void describe(V& v, OutputParams& p) {
   v.object("exports", p.exports, {"", "files for other tools, made per frame after the surfaces (kurage export)"});
 }
 
+inline const EnumTable<render::MetaballKernel> kMetaballKernel{{"isotropic", render::MetaballKernel::Isotropic},
+                                                              {"anisotropic", render::MetaballKernel::Anisotropic}};
+
+template <class V>
+void describe(V& v, render::AnisotropyParams& p) {
+  v.value("neighbour_radius", p.neighbourRadius,
+          {"R", "radius of the neighbourhood whose spread shapes a particle's ellipsoid, in units of the field radius",
+           between(0.25, 4.0)});
+  v.value("max_stretch", p.maxStretch,
+          {"", "longest over shortest axis of an ellipsoid at most (Yu & Turk's k_r)", between(1.0, 16.0)});
+  v.value("min_neighbours", p.minNeighbours,
+          {"", "a particle with fewer neighbours (itself included) keeps the sphere of radius R", between(1, 1000)});
+  v.value("smoothing", p.smoothing,
+          {"", "how far each blob's centre moves towards its neighbours' weighted mean (Yu & Turk's lambda; 0 keeps "
+               "the particles' positions)",
+           between(0.0, 1.0)});
+}
+
 template <class V>
 void describe(V& v, render::MetaballParams& p) {
   v.value("radius", p.radius, {"m", "field radius R of each particle's blob s (1 - (r/R)^2)^2", positive()});
@@ -279,12 +297,22 @@ void describe(V& v, render::MetaballParams& p) {
   v.value("strength", p.strength, {"", "blob strength s (POV-Ray's component strength)", positive()});
   v.value("voxel_size", p.voxelSize, {"m", "level set voxel size", positive()});
   v.value("half_width", p.halfWidth, {"voxels", "narrow band half width", between(2.0, 10.0)});
+  v.enumeration("kernel", p.kernel, kMetaballKernel,
+                {"", "'isotropic': every particle's blob is a sphere of radius R (POV-Ray's blobs); 'anisotropic': an "
+                     "ellipsoid, longest axis R, that follows the spread of the particle's neighbours (Yu & Turk 2013), "
+                     "so that a sheet of particles gives a thin wall and a flat surface stays flat (docs/RENDERING.md)"});
+  v.object("anisotropy", p.anisotropy, {"", "the ellipsoids of 'anisotropic' kernels"});
 }
 
 template <class V>
 void describe(V& v, SurfaceParams& p) {
   v.object("fluid", p.fluid, {"", "metaball surface of the fluid particles"});
   v.object("bodies", p.bodies, {"", "metaball surface of each body (chains excepted), one grid per body name"});
+  v.value("clip_to_container", p.clipToContainer,
+          {"", "intersect every surface with the container (grown by a quarter voxel, so that the walls and the "
+               "floor hide the water's own faces), so that nothing is drawn outside the tank's walls or below its "
+               "floor; false keeps the metaball field's surface as it is (it reaches about R past the outer "
+               "particles)"});
 }
 
 inline const EnumTable<render::MaterialType> kMaterialType{{"diffuse", render::MaterialType::Diffuse},

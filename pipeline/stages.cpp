@@ -376,11 +376,19 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
     const size_t kind = size_t(frame.kind[i]);
     if (kind < byKind.size()) byKind[kind].emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
   }
+  const auto build = [&](const std::vector<Eigen::Vector3f>& positions, const render::MetaballParams& params) {
+    render::LevelSet levelSet = render::buildMetaballLevelSet(positions, params);
+    if (scene.surface.clipToContainer) {
+      const Eigen::Vector3f margin = Eigen::Vector3f::Constant(0.25f * params.voxelSize);
+      render::intersectWithBox(levelSet, scene.sim.container.min - margin, scene.sim.container.max + margin);
+    }
+    return levelSet;
+  };
   std::map<std::string, render::LevelSet> surfaces;
-  surfaces.emplace("fluid", render::buildMetaballLevelSet(byKind[0], scene.surface.fluid));
+  surfaces.emplace("fluid", build(byKind[0], scene.surface.fluid));
   for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
     if (scene.sim.bodies[b].shape != sim::BodyShape::Chain)
-      surfaces.emplace(scene.sim.bodies[b].name, render::buildMetaballLevelSet(byKind[b + 1], scene.surface.bodies));
+      surfaces.emplace(scene.sim.bodies[b].name, build(byKind[b + 1], scene.surface.bodies));
   return surfaces;
 }
 

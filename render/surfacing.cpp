@@ -5,7 +5,9 @@
 //    voxel, then every 8^3 leaf that any particle's support can reach is filled independently
 //    (in parallel) by gathering from the particles of the bins within reach, in a fixed order,
 //    whole rows of 8 voxels at a time. No atomics, no per-thread grids: the sums are bit for bit
-//    the same for any thread count.
+//    the same for any thread count. Anisotropic kernels (render/anisotropy.h) go the same way:
+//    the blobs' centres are binned, and each blob adds s (1 - d^T M d)^2 over the rows of its
+//    bounding box (splatEllipsoid), a quadratic in z along each row.
 // 2. Surface samples (findCrossings), per leaf: voxels where f - T changes sign towards a face
 //    neighbour get a distance estimate min(t, Newton), with t the nearest crossing along an axis
 //    (linear interpolation of f) and Newton = |f - T| / |grad f| (central differences); voxels
@@ -17,6 +19,8 @@
 //    beyond halfWidth stay inactive at +-background, and the signed flood fill gives the leaves
 //    left out their inside or outside value. Minima do not depend on the order, so this step is
 //    thread-count independent too.
+// 4. The clip to a box (intersectWithBox, surfacing.h) is a separate pass over a finished level
+//    set, leaf by leaf.
 //
 // This replaced tools::fogToSdf (fast sweeping over a band found by dilating and eroding the
 // inside mask), which took 1.6 s of the 3.1 s for a 1,000,000-particle tank on 2 threads; the
@@ -24,6 +28,8 @@
 #include "render/surfacing.h"
 
 #include "render/level_set_impl.h"
+
+#include <Eigen/LU>
 
 #include <openvdb/openvdb.h>
 #include <openvdb/io/Stream.h>
@@ -142,8 +148,57 @@ struct SummedField {
   }
 };
 
-// Sums the metaball field f.
-SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params) {
+// A particle's ellipsoid in voxel units: d^T M d < 1 (M symmetric, six entries xx, xy, xz, yy, yz,
+// zz) and the half extents of its bounding box, sqrt((M^-1)_aa).
+struct VoxelEllipsoid {
+  float m[6];
+  float extent[3];
+};
+
+// Adds s (1 - d^T M d)^2 (where d^T M d < 1) of one ellipsoidal blob at `rel` (leaf-local voxel
+// units) to the leaf's field, whole rows of 8 as two 4-wide vectors, as the spheres' loop does.
+void splatEllipsoid(float* field, const openvdb::Vec3d& rel, const VoxelEllipsoid& e, float strength) {
+  int lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max(0, static_cast<int>(std::ceil(rel[a] - e.extent[a])));
+    hi[a] = std::min(kLeafDim - 1, static_cast<int>(std::floor(rel[a] + e.extent[a])));
+    if (lo[a] > hi[a]) return;
+  }
+  const float px = static_cast<float>(rel[0]), py = static_cast<float>(rel[1]), pz = static_cast<float>(rel[2]);
+  const float mxx = e.m[0], mxy = e.m[1], mxz = e.m[2], myy = e.m[3], myz = e.m[4], mzz = e.m[5];
+  float dz[kLeafDim];
+  for (int z = 0; z < kLeafDim; ++z) dz[z] = float(z) - pz;
+  Float4 dz0, dz1;
+  std::memcpy(&dz0, &dz[0], sizeof dz0);
+  std::memcpy(&dz1, &dz[4], sizeof dz1);
+  const Float4 zero = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (int x = lo[0]; x <= hi[0]; ++x) {
+    const float dx = float(x) - px;
+    for (int y = lo[1]; y <= hi[1]; ++y) {
+      const float dy = float(y) - py;
+      // q(dz) = c0 + c1 dz + mzz dz^2 along the row; skip rows whose minimum is outside.
+      const float c0 = mxx * dx * dx + 2.0f * mxy * dx * dy + myy * dy * dy;
+      const float c1 = 2.0f * (mxz * dx + myz * dy);
+      if (c0 - c1 * c1 / (4.0f * mzz) >= 1.0f) continue;
+      float* row = &field[static_cast<size_t>((x << (2 * kLeafLog2)) | (y << kLeafLog2))];
+      Float4 w0 = 1.0f - (c0 + dz0 * (c1 + mzz * dz0)), w1 = 1.0f - (c0 + dz1 * (c1 + mzz * dz1));
+      w0 = w0 > zero ? w0 : zero;
+      w1 = w1 > zero ? w1 : zero;
+      Float4 r0, r1;
+      std::memcpy(&r0, row, sizeof r0);
+      std::memcpy(&r1, row + 4, sizeof r1);
+      r0 += strength * w0 * w0;
+      r1 += strength * w1 * w1;
+      std::memcpy(row, &r0, sizeof r0);
+      std::memcpy(row + 4, &r1, sizeof r1);
+    }
+  }
+}
+
+// Sums the metaball field f. `shapes` (world, 1/m^2, one per position) gives each blob's
+// ellipsoid (MetaballKernel::Anisotropic); empty: spheres of radius R.
+SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::vector<Eigen::Matrix3f>& shapes,
+                     const MetaballParams& params) {
   const double h = params.voxelSize;
   const double invH = 1.0 / h;
   const double r = static_cast<double>(params.radius) * invH;  // support radius in voxels
@@ -176,10 +231,19 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const Metaba
   // Particle positions relative to their bin's leaf origin are formed per target leaf in double;
   // keep them in sorted order for locality.
   std::vector<openvdb::Vec3d> q(n);
+  std::vector<VoxelEllipsoid> ellipsoids(shapes.empty() ? 0 : n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
       const Eigen::Vector3f& p = positions[order[i].second];
       q[i] = openvdb::Vec3d(p.x() * invH, p.y() * invH, p.z() * invH);
+      if (shapes.empty()) continue;
+      const Eigen::Matrix3d m = shapes[order[i].second].cast<double>() * (h * h);
+      const Eigen::Matrix3d inverse = m.inverse();
+      VoxelEllipsoid& e = ellipsoids[i];
+      const float entries[6] = {float(m(0, 0)), float(m(0, 1)), float(m(0, 2)), float(m(1, 1)), float(m(1, 2)), float(m(2, 2))};
+      std::copy_n(entries, 6, e.m);
+      // Never past the sphere of radius R, which the bins' reach assumes.
+      for (int a = 0; a < 3; ++a) e.extent[a] = float(std::min(std::sqrt(std::max(inverse(a, a), 0.0)), r));
     }
   });
 
@@ -256,6 +320,10 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const Metaba
             }
             for (size_t i = binBegin[b]; i < binBegin[b + 1]; ++i) {
               const openvdb::Vec3d rel = q[i] - o;  // particle in leaf-local voxel units
+              if (!ellipsoids.empty()) {
+                splatEllipsoid(field, rel, ellipsoids[i], strength);
+                continue;
+              }
               int lo[3], hi[3];
               bool overlaps = true;
               for (int a = 0; a < 3; ++a) {
@@ -503,7 +571,16 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
     result.impl->grid = emptyLevelSetGrid(params.voxelSize, params.halfWidth);
     return result;
   }
-  const SummedField field = sumField(positions, params);
+  SummedField field;
+  if (params.kernel == MetaballKernel::Anisotropic) {
+    const std::vector<EllipsoidKernel> kernels = anisotropicKernels(positions, params.radius, params.anisotropy);
+    std::vector<Eigen::Vector3f> centres(kernels.size());
+    std::vector<Eigen::Matrix3f> shapes(kernels.size());
+    for (size_t i = 0; i < kernels.size(); ++i) centres[i] = kernels[i].centre, shapes[i] = kernels[i].shape;
+    field = sumField(centres, shapes, params);
+  } else {
+    field = sumField(positions, {}, params);
+  }
   const std::vector<SurfaceSamples> crossings = findCrossings(field, params.threshold);
   if (std::all_of(crossings.begin(), crossings.end(), [](const auto& c) { return c.voxels.empty(); })) {
     // No voxel centre reaches the threshold: the surface is below the resolution.
@@ -515,6 +592,98 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
   openvdb::tools::pruneLevelSet(sdf->tree());
   result.impl->grid = sdf;
   return result;
+}
+
+namespace {
+
+// Exact signed distance from x to the axis-aligned box [lo, hi], negative inside (index space).
+double boxSignedDistance(const openvdb::Vec3d& x, const openvdb::Vec3d& lo, const openvdb::Vec3d& hi) {
+  double outside2 = 0.0, inside = -std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    const double d = std::max(lo[a] - x[a], x[a] - hi[a]);  // > 0 beyond a face of this axis
+    if (d > 0.0) outside2 += d * d;
+    inside = std::max(inside, d);
+  }
+  return outside2 > 0.0 ? std::sqrt(outside2) : inside;
+}
+
+}  // namespace
+
+void intersectWithBox(LevelSet& levelSet, const Eigen::Vector3f& boxMin, const Eigen::Vector3f& boxMax) {
+  if (!((boxMin.array() <= boxMax.array()).all())) {
+    throw std::invalid_argument("intersectWithBox: the box's min exceeds its max");
+  }
+  if (levelSet.empty()) return;
+  openvdb::initialize();
+  const openvdb::FloatGrid& old = *levelSet.impl->grid;
+  const double h = old.voxelSize()[0];
+  const float background = old.background();
+  const double band = double(background) / h;  // half width, voxels
+  // The box in index space (voxel centres are at integer coordinates).
+  const openvdb::Vec3d lo = old.worldToIndex(openvdb::Vec3d(boxMin.x(), boxMin.y(), boxMin.z()));
+  const openvdb::Vec3d hi = old.worldToIndex(openvdb::Vec3d(boxMax.x(), boxMax.y(), boxMax.z()));
+
+  // Leaves that can hold voxels of the new band: the old band's leaves within the band of the box,
+  // and the leaves along the box's faces (within the band of them) that the old level set has
+  // inside (a tile below zero). Everything else ends up +-background after the flood fill.
+  const openvdb::CoordBBox active = old.evalActiveVoxelBoundingBox();
+  std::vector<Coord> origins;
+  for (auto leaf = old.tree().cbeginLeaf(); leaf; ++leaf) {
+    const openvdb::CoordBBox b = leaf->getNodeBoundingBox();
+    bool near = true;  // the leaf's voxels come within the band of the box's inside
+    for (int a = 0; a < 3; ++a) near = near && b.max()[a] >= lo[a] - band && b.min()[a] <= hi[a] + band;
+    if (near) origins.push_back(leaf->origin());
+  }
+  {
+    Coord first, last;
+    for (int a = 0; a < 3; ++a) {
+      const double from = std::max(lo[a] - band, double(active.min()[a]) - kLeafDim);
+      const double to = std::min(hi[a] + band, double(active.max()[a]) + kLeafDim);
+      first[a] = int32_t(floorDiv(int64_t(std::floor(from)), kLeafDim));
+      last[a] = int32_t(floorDiv(int64_t(std::ceil(to)), kLeafDim));
+    }
+    const auto accessor = old.getConstAccessor();
+    for (int32_t x = first.x(); x <= last.x(); ++x)
+      for (int32_t y = first.y(); y <= last.y(); ++y)
+        for (int32_t z = first.z(); z <= last.z(); ++z) {
+          const Coord origin(x * kLeafDim, y * kLeafDim, z * kLeafDim);
+          if (old.tree().probeConstLeaf(origin)) continue;  // among the old band's leaves
+          if (!(accessor.getValue(origin) < 0.0f)) continue;   // outside: stays outside
+          // Inside the old level set: keep it when it reaches within the band of a face.
+          bool deepInside = true;
+          for (int a = 0; a < 3; ++a)
+            deepInside = deepInside && origin[a] > lo[a] + band && origin[a] + kLeafDim - 1 < hi[a] - band;
+          if (!deepInside) origins.push_back(origin);
+        }
+  }
+  std::sort(origins.begin(), origins.end());
+
+  std::vector<std::unique_ptr<FloatLeaf>> leaves(origins.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, origins.size(), 8), [&](const tbb::blocked_range<size_t>& range) {
+    const auto accessor = old.getConstAccessor();
+    for (size_t l = range.begin(); l != range.end(); ++l) {
+      auto leaf = std::make_unique<FloatLeaf>(origins[l], background, false);
+      bool any = false;
+      for (openvdb::Index v = 0; v < FloatLeaf::SIZE; ++v) {
+        const Coord ijk = leaf->offsetToGlobalCoord(v);
+        const double box = boxSignedDistance(ijk.asVec3d(), lo, hi) * h;
+        const float phi = std::max(accessor.getValue(ijk), float(box));
+        if (std::abs(phi) < background) {
+          leaf->setValueOn(v, phi);
+          any = true;
+        } else {
+          leaf->setValueOff(v, phi < 0.0f ? -background : background);
+        }
+      }
+      if (any) leaves[l] = std::move(leaf);
+    }
+  });
+  auto grid = emptyLevelSetGrid(h, background / float(h));
+  for (auto& leaf : leaves)
+    if (leaf) grid->tree().addLeaf(leaf.release());
+  openvdb::tools::signedFloodFill(grid->tree());
+  openvdb::tools::pruneLevelSet(grid->tree());
+  levelSet.impl->grid = grid;
 }
 
 TriangleMesh meshLevelSet(const LevelSet& levelSet) {

@@ -24,6 +24,7 @@
 // thread count.
 #pragma once
 
+#include "render/anisotropy.h"
 #include "render/mesh.h"
 
 #include <Eigen/Core>
@@ -37,12 +38,19 @@
 
 namespace kurage::render {
 
+// The shape of each particle's blob: the sphere of radius R above, or an ellipsoid that follows
+// the particle's neighbourhood (render/anisotropy.h, Yu & Turk 2013) whose longest axis is R, with
+// the same profile s (1 - q^2)^2 in the ellipsoid's own distance q.
+enum class MetaballKernel { Isotropic, Anisotropic };
+
 struct MetaballParams {
   float radius = 2.0f;     // R, metres
   float threshold = 0.6f;  // T, field units
   float strength = 1.0f;   // s, field units
   float voxelSize = 0.25f; // metres
   float halfWidth = 3.0f;  // narrow band half width, voxels
+  MetaballKernel kernel = MetaballKernel::Isotropic;
+  AnisotropyParams anisotropy;  // with MetaballKernel::Anisotropic
 };
 
 // Opaque handle on an OpenVDB float level set, so that callers need not include OpenVDB.
@@ -67,9 +75,21 @@ public:
   std::unique_ptr<Impl> impl;
 };
 
-// Builds the metaball level set of the given particle positions (world space, metres).
-// An empty input yields an empty level set.
+// Builds the metaball level set of the given particle positions (world space, metres), with the
+// kernel params.kernel. An empty input yields an empty level set.
 LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params);
+
+// Intersects a level set with the inside of the axis-aligned box [boxMin, boxMax] (world space,
+// metres): CSG on signed distances, phi' = max(phi, phi_box), phi_box the exact signed distance to
+// the box (negative inside). Used to keep a fluid's surface inside its container: nothing of the
+// result lies outside the box, and where the level set's inside reaches past a face, the face
+// becomes the surface. The narrow band is rebuilt (every voxel within the half width of the new
+// surface, taken from the old band and from the voxels near the box's faces that were inside) and
+// flood-filled, so the result is again a valid narrow-band level set. max() is exact inside both
+// sets and never farther than the true distance outside (at edges and corners of the cut it can
+// be smaller). Bit for bit the same for any thread count. An empty level set stays empty; a box
+// with boxMin > boxMax on an axis throws std::invalid_argument.
+void intersectWithBox(LevelSet& levelSet, const Eigen::Vector3f& boxMin, const Eigen::Vector3f& boxMax);
 
 // Meshes the zero crossing of the level set (OpenVDB volumeToMesh, triangulated) with
 // per-vertex normals from the level set gradient.

@@ -80,6 +80,12 @@ const BadScene kBadScenes[] = {
     {"NotAnObject", [](json& s) { s["time_step"] = 0.01; }, "time_step", "must be an object"},
     {"ThresholdAboveStrength", [](json& s) { s["surface"]["fluid"]["threshold"] = 2.0; }, "surface.fluid.threshold",
      "must be below the blob strength"},
+    {"BadSurfaceKernel", [](json& s) { s["surface"]["bodies"]["kernel"] = "ellipsoid"; }, "surface.bodies.kernel",
+     "must be one of \"isotropic\", \"anisotropic\", got \"ellipsoid\""},
+    {"AnisotropySmoothingAboveOne", [](json& s) { s["surface"]["fluid"]["anisotropy"]["smoothing"] = 1.5; },
+     "surface.fluid.anisotropy.smoothing", "must be <= 1, got 1.5"},
+    {"ClipNotABoolean", [](json& s) { s["surface"]["clip_to_container"] = 1; }, "surface.clip_to_container",
+     "must be"},
     // Bodies (one valid box body at [8, 1, 1] - [10, 3, 3] is added, then broken).
     {"BodyYieldsNoParticle", [](json& s) { addBox(s)["max"] = {8.2, 3, 3}; }, "bodies[0]", "yields no particle"},
     {"BodyConnectionRadiusJoinsNone", [](json& s) { addBox(s)["connection_radius"] = 0.3; },
