@@ -487,15 +487,21 @@ TEST(Collisions, FluidContactKeepsAFastFluidParticleOutOfAMembrane) {
 // the paper's parameters except k_press 2000 and h = 2 l, with the volume density sum and
 // Monaghan's pressure force; docs/PHYSICS.md has the paper's forms for comparison). The box has
 // 6 particle layers, so fractions come in steps of 1/6.
-class Archimedes : public ::testing::TestWithParam<float> {};
+// Each case runs with the paper's WCSPH and with DFSPH and boundary-particle walls.
+class Archimedes : public ::testing::TestWithParam<std::tuple<float, std::string>> {};
 
 TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
-  const float gravity = GetParam();
+  const auto [gravity, solver] = GetParam();
   SimParams p;
   p.fluid.supportRadius = 2.0f;  // as scenes/box.json: with 1.5 l the coarse fluid holds a body like a crystal
   p.fluid.pressureStiffness = 2000.0f;
   p.fluid.pressureForce = PressureForce::Monaghan1992;
   p.fluid.densitySum = DensitySum::Volume;
+  p.fluid.solver = solver;
+  if (solver == "dfsph") {
+    p.container.wallDensity = WallDensity::BoundaryParticles;
+    p.fluid.initialState = InitialState::Hydrostatic;
+  }
   p.container.max = Eigen::Vector3f(14, 14, 12);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(14, 14, 6)});
   BodyParams box = boxBody({5.5f, 5.5f, 6.5f}, {8.5f, 8.5f, 9.5f});  // dropped from just above the water
@@ -515,12 +521,23 @@ TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
     }
   }
   const double fraction = sum / samples;  // averaged over t = 7 .. 12 s
+  std::printf("%s, specific gravity %.1f: submerged fraction %.3f\n", solver.c_str(), gravity, fraction);
   EXPECT_NEAR(fraction, gravity, 0.1) << "specific gravity " << gravity;
   RecordProperty("submerged_fraction", std::to_string(fraction));
 }
 
-INSTANTIATE_TEST_SUITE_P(SpecificGravity, Archimedes, ::testing::Values(0.5f, 0.7f, 0.9f),
-                         [](const auto& info) { return "sg" + std::to_string(int(std::lround(info.param * 10))); });
+// DFSPH: sg 0.5 floats at 0.51; with sg 0.7 and 0.9 the stiff box (k = 10000) coupled to the
+// solver's velocity corrections became non-finite at t = 2.0 s and 11.2 s (the bodies
+// under DFSPH are not done: docs/PHYSICS.md "Pressure solvers").
+INSTANTIATE_TEST_SUITE_P(SpecificGravity, Archimedes,
+                         ::testing::Values(std::make_tuple(0.5f, std::string("wcsph")),
+                                           std::make_tuple(0.7f, std::string("wcsph")),
+                                           std::make_tuple(0.9f, std::string("wcsph")),
+                                           std::make_tuple(0.5f, std::string("dfsph"))),
+                         [](const auto& info) {
+                           return std::get<1>(info.param) + "_sg" +
+                                  std::to_string(int(std::lround(std::get<0>(info.param) * 10)));
+                         });
 
 // The paper's Fig. 3 with scenes/box.json: the state at the end of each phase of its force schedule.
 TEST(BoxSequence, FollowsThePaper) {
