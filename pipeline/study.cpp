@@ -30,6 +30,7 @@ inline const EnumTable<StudyMeasure> kStudyMeasure{{"dam_break_front", StudyMeas
                                                    {"membrane_leak", StudyMeasure::MembraneLeak},
                                                    {"surface_distance", StudyMeasure::SurfaceDistance},
                                                    {"render_rmse", StudyMeasure::RenderRmse},
+                                                   {"density_error", StudyMeasure::DensityError},
                                                    {"none", StudyMeasure::None}};
 
 std::string_view studyMeasureName(StudyMeasure measure) {
@@ -193,6 +194,7 @@ std::string measureProblem(const Study& study, const Scene& scene) {
       break;
     case StudyMeasure::SurfaceDistance:
     case StudyMeasure::RenderRmse:
+    case StudyMeasure::DensityError:
     case StudyMeasure::None:
       break;
   }
@@ -326,6 +328,7 @@ std::vector<std::string> studyFigureNames(StudyMeasure measure) {
     case StudyMeasure::SurfaceDistance:
       return {"max_m", "rms_m", "rays", "misses", "active_voxels", "memory_mb"};
     case StudyMeasure::RenderRmse: return {"total_mrays", "reference_seconds"};
+    case StudyMeasure::DensityError: return {"max_density_error", "steps"};
     case StudyMeasure::None: return {};
   }
   return {};
@@ -411,6 +414,15 @@ public:
       case StudyMeasure::MembraneLeak: membrane(scene, row); break;
       case StudyMeasure::SurfaceDistance: surfaceDistanceRun(doc, scene, row); break;
       case StudyMeasure::RenderRmse: renderRmseRun(doc, scene, row); break;
+      case StudyMeasure::DensityError: {
+        const SimOutcome sim = simulate(scene, study_.duration, {}, [](const sim::Simulation&) {});
+        takeSimFigures(row, sim);
+        row.totalSeconds = row.simSeconds;
+        const double steps = std::max<double>(1.0, double(sim.stats.steps));
+        row.error = sim.stats.densityErrorSum / steps;
+        row.figures = {sim.stats.densityErrorMax, double(sim.stats.steps)};
+        break;
+      }
       case StudyMeasure::None: {
         takeSimFigures(row, simulate(scene, study_.duration, {}, [](const sim::Simulation&) {}));
         row.totalSeconds = row.simSeconds;
@@ -642,6 +654,7 @@ std::string errorUnit(StudyMeasure m) {
     case StudyMeasure::MembraneLeak: return "fluid particles through the membrane";
     case StudyMeasure::SurfaceDistance: return "mean distance from the exact surface (m)";
     case StudyMeasure::RenderRmse: return "RMSE vs reference (sRGB)";
+    case StudyMeasure::DensityError: return "mean compression of the fluid over the run, fraction of rho0";
     case StudyMeasure::None: return "";
   }
   return "";
@@ -655,6 +668,7 @@ std::string errorAxis(StudyMeasure m) {
     case StudyMeasure::MembraneLeak: return "particles through";
     case StudyMeasure::SurfaceDistance: return "mean distance (m)";
     case StudyMeasure::RenderRmse: return "RMSE (sRGB)";
+    case StudyMeasure::DensityError: return "mean density error";
     case StudyMeasure::None: return "";
   }
   return "";

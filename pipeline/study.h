@@ -29,6 +29,9 @@
 //   render_rmse  RMSE (sRGB, 0..1) of the frame at `duration` against the same frame rendered
 //       with `reference_samples` samples, depth `reference_max_depth` and another seed. Times
 //       rendering (simulation and surfacing are shared by runs that differ only in render keys).
+//   density_error  the fluid's mean compression over the run (each step's mean over fluid
+//       particles of max(rho - rho0, 0) / rho0, averaged over the steps; the largest step's value
+//       is a figure): what a pressure solver's stiffness or tolerance buys. Times the simulation.
 //   none  no error: timing only (what switching an effect off saves). Times the simulation.
 #pragma once
 
@@ -44,7 +47,9 @@
 
 namespace kurage::pipeline {
 
-enum class StudyMeasure { DamBreakFront, DamBreakColumn, Buoyancy, MembraneLeak, SurfaceDistance, RenderRmse, None };
+enum class StudyMeasure {
+  DamBreakFront, DamBreakColumn, Buoyancy, MembraneLeak, SurfaceDistance, RenderRmse, DensityError, None
+};
 std::string_view studyMeasureName(StudyMeasure measure);
 
 // A knob variant: a label and the scene values it sets, {"json.path": value, ...}.
