@@ -60,8 +60,8 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
       buffer.resize(begin + found);
       neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));
       const float scale = Form == DensitySum::Mass ? 1.0f : rho0[i];
-      if constexpr (isPoly6) sum *= kernel.coefficient;
-      rho[i] = scale * sum;  // (3)
+      if constexpr (isPoly6) rho[i] = scale * kernel.coefficient * sum;  // (3), the paper's kernel
+      else rho[i] = scale * sum;
       if (walls.weights)
         rho[i] += (Form == DensitySum::Mass ? 1.0f : rho0[i] / walls.restDensity) *
                   boxWallContribution(*walls.weights, walls.box, kernel.h, xi, yi, zi).density;
