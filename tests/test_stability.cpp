@@ -284,17 +284,22 @@ double emittedEnergy(const Simulation& sim, double speed, double top) {
   const double g = -sim.params().gravity.z();
   return double(sim.stats().emitted) * sim.fluidParticleMass() * (0.5 * speed * speed + g * top);
 }
+
+// A 12 m channel with a 20 m/s nozzle aimed at its end wall, for 1.5 s.
+SimParams jetIntoAWall(const FluidParams& fluid) {
+  SimParams p;
+  p.fluid = fluid;
+  p.container.max = Eigen::Vector3f(12, 6, 6);
+  p.emitters.push_back({Eigen::Vector3f(1, 3, 3), Eigen::Vector3f(1, 0, 0), 1.0f, 20.0f, 0.0f, 1.5f});
+  return p;
+}
 }  // namespace
 
 // 20 m/s into the end wall of a 12 m channel, the water-like fluid of scenes/membrane.json
 // (c = 77 m/s): the front stops in one step at the wall.
 TEST(Jet, TwentyMetresPerSecondIntoAWall) {
   Budget budget;
-  SimParams p;
-  p.fluid = membraneFluid();
-  p.container.max = Eigen::Vector3f(12, 6, 6);
-  p.emitters.push_back({Eigen::Vector3f(1, 3, 3), Eigen::Vector3f(1, 0, 0), 1.0f, 20.0f, 0.0f, 1.5f});
-  Simulation sim(p);
+  Simulation sim(jetIntoAWall(membraneFluid()));
   for (int f = 1; f <= 25; ++f) {
     sim.advanceTo(0.1 * f);
     expectHealthy(sim, at(sim));
@@ -791,11 +796,8 @@ FluidParams dfsphFluid() {
 // The 20 m/s jet into a wall under DFSPH: finite, inside, and no energy beyond what the nozzle put in.
 TEST(DfsphHardCases, TwentyMetresPerSecondIntoAWall) {
   Budget budget;
-  SimParams p;
-  p.fluid = dfsphFluid();
-  p.container.max = Eigen::Vector3f(12, 6, 6);
+  SimParams p = jetIntoAWall(dfsphFluid());
   p.container.wallDensity = WallDensity::BoundaryParticles;
-  p.emitters.push_back({Eigen::Vector3f(1, 3, 3), Eigen::Vector3f(1, 0, 0), 1.0f, 20.0f, 0.0f, 1.5f});
   Simulation sim(p);
   for (int f = 1; f <= 25; ++f) {
     sim.advanceTo(0.1 * f);
