@@ -43,7 +43,7 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
       size_t found = 0;
       auto weight = [&](uint32_t j) { return Form == DensitySum::Mass ? m[j] : m[j] / rho0[j]; };
       // the particle itself, r = 0
-      float sum = weight(uint32_t(i)) * (isPoly6 ? h2 * h2 * h2 : kernel.fromSquared(0.0f));
+      float sum = isPoly6 ? weight(uint32_t(i)) * h2 * h2 * h2 : weight(uint32_t(i)) * kernel.fromSquared(0.0f);
       for (int r = 0; r < n; ++r)
         for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
           const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
