@@ -5,7 +5,20 @@
 // absorption), checker ground, sun of 0.53 degrees and a sky gradient, seen at an angle; max
 // depth 8. Reported for 1 and 2 threads: Mrays/s of camera rays and of all rays (camera, bounce
 // and shadow rays, each an Embree query), and seconds per frame (scene build included).
+//
+// With --rmse: image error against seconds for each integrator option, on the built-in scene or
+// on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, pipeline/measures.h) against a
+// reference rendered once by the path tracer with environment sampling and --reference-spp
+// samples (another seed), and, for the whitted rows, also against whitted itself at 64 sub-pixel
+// samples (its only error is then aliasing). With --variance: where the noise comes from, the
+// RMSE between two renders that differ only in the seed, divided by sqrt(2) (the noise of one
+// render), for each light alone and for each path depth.
 #include "pipeline/cli.h"
+#include "pipeline/io/surface_file.h"
+#include "pipeline/measures.h"
+#include "pipeline/particle_cache.h"
+#include "pipeline/render_scene.h"
+#include "pipeline/stages.h"
 #include "render/surfacing.h"
 #include "render/tracer.h"
 
@@ -13,6 +26,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <tuple>
+#include <vector>
 
 namespace kurage::pipeline {
 
@@ -35,17 +54,221 @@ render::TriangleMesh benchMesh() {
   return render::meshLevelSet(render::buildMetaballLevelSet(particles, blob));
 }
 
+// What one frame needs: the scene (for its render settings) and a function that renders it.
+struct BenchFrame {
+  Scene scene;
+  std::function<render::Image(const Scene&, render::RenderStats*)> render;
+};
+
+struct BenchRow {
+  std::string label;
+  std::function<void(render::RenderSettings&)> set;
+};
+
+std::vector<BenchRow> rmseRows() {
+  using S = render::RenderSettings;
+  std::vector<BenchRow> rows;
+  for (int spp : {1, 4, 16, 64})
+    rows.push_back({"before: sky by BSDF, no split, " + std::to_string(spp) + " spp", [spp](S& s) {
+                      s.environmentSampling = false;
+                      s.fresnelSplitting = false;
+                      s.samplesPerPixel = spp;
+                    }});
+  for (int spp : {1, 4, 16, 64})
+    rows.push_back({"path (default: sky MIS, split), " + std::to_string(spp) + " spp", [spp](S& s) { s.samplesPerPixel = spp; }});
+  for (int spp : {1, 4, 16})
+    rows.push_back({"path + denoiser, " + std::to_string(spp) + " spp", [spp](S& s) {
+                      s.samplesPerPixel = spp;
+                      s.denoise.enabled = true;
+                    }});
+  for (const auto& [error, lo, hi] : {std::tuple{0.1f, 4, 64}, std::tuple{0.05f, 8, 256}})
+    rows.push_back({"path, adaptive " + std::to_string(error).substr(0, 4) + " (" + std::to_string(lo) + "-" +
+                        std::to_string(hi) + " spp)",
+                    [error, lo, hi](S& s) {
+                      s.adaptive.enabled = true;
+                      s.adaptive.relativeError = error;
+                      s.adaptive.minSamples = lo;
+                      s.adaptive.maxSamples = hi;
+                    }});
+  for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{1, 16}, std::pair{4, 16}})
+    rows.push_back({"whitted, " + std::to_string(spp) + " spp, " + std::to_string(sky) + " sky rays", [spp, sky](S& s) {
+                      s.integrator = render::Integrator::Whitted;
+                      s.samplesPerPixel = spp;
+                      s.whitted.skyDirections = sky;
+                    }});
+  return rows;
+}
+
+int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, bool json) {
+  ThreadLimit limit(threads);
+  Scene referenceScene = frame.scene;
+  referenceScene.render.settings.samplesPerPixel = referenceSpp;
+  referenceScene.render.settings.seed = frame.scene.render.settings.seed + 1;
+  render::RenderStats referenceStats;
+  const render::Image reference = frame.render(referenceScene, &referenceStats);
+  Scene whittedScene = frame.scene;
+  whittedScene.render.settings.integrator = render::Integrator::Whitted;
+  whittedScene.render.settings.samplesPerPixel = 64;
+  const render::Image whittedReference = frame.render(whittedScene, nullptr);
+  const render::RenderSettings& base = frame.scene.render.settings;
+  nlohmann::json result = {{"benchmark", "render_rmse"}, {"width", base.width}, {"height", base.height},
+                           {"threads", threads}, {"reference_spp", referenceSpp},
+                           {"reference_seconds", referenceStats.seconds}, {"rows", nlohmann::json::array()}};
+  if (!json)
+    std::printf("bench render --rmse: %dx%d, %d threads, max depth %d; reference: default path tracer, %d spp (%.1f s)\n"
+                "  %-44s %9s %8s %9s %s\n",
+                base.width, base.height, threads, base.maxDepth, referenceSpp, referenceStats.seconds, "run", "s/frame",
+                "RMSE", "mean spp", "RMSE vs whitted@64");
+  for (const BenchRow& row : rmseRows()) {
+    Scene scene = frame.scene;
+    row.set(scene.render.settings);
+    render::RenderStats stats;
+    const render::Image image = frame.render(scene, &stats);
+    const double rmse = imageRmse(image, reference);
+    const bool whitted = scene.render.settings.integrator == render::Integrator::Whitted;
+    const double self = whitted ? imageRmse(image, whittedReference) : -1.0;
+    const double spp = double(stats.samples) / (double(base.width) * base.height);
+    result["rows"].push_back({{"run", row.label}, {"seconds", stats.seconds}, {"rmse", rmse}, {"mean_spp", spp},
+                              {"rmse_vs_whitted64", whitted ? nlohmann::json(self) : nlohmann::json(nullptr)}});
+    if (!json) {
+      std::printf("  %-44s %9.3f %8.4f %9.1f", row.label.c_str(), stats.seconds, rmse, spp);
+      if (whitted) std::printf(" %8.4f", self);
+      std::printf("\n");
+    }
+  }
+  if (json) std::printf("%s\n", result.dump(2).c_str());
+  return 0;
+}
+
+// The noise of one render, by light and by depth: RMSE between seeds 0 and 1, / sqrt(2).
+int benchVariance(const BenchFrame& frame, int threads, bool json) {
+  const int spp = frame.scene.render.settings.samplesPerPixel;
+  ThreadLimit limit(threads);
+  const auto noise = [&](const std::function<void(Scene&)>& set) {
+    Scene scene = frame.scene;
+    set(scene);
+    const render::Image a = frame.render(scene, nullptr);
+    scene.render.settings.seed += 1;
+    const render::Image b = frame.render(scene, nullptr);
+    return imageRmse(a, b) / std::sqrt(2.0);
+  };
+  const auto noSun = [](Scene& s) { s.render.sun.irradiance.setZero(); };
+  const auto noSky = [](Scene& s) {
+    s.render.environment.type = render::EnvironmentType::Uniform;
+    s.render.environment.zenith.setZero();
+  };
+  const auto noArea = [](Scene& s) { s.render.areaLights.clear(); };
+  nlohmann::json result = {{"benchmark", "render_variance"}, {"spp", spp}, {"rows", nlohmann::json::array()}};
+  if (!json) std::printf("bench render --variance: noise (RMSE, sRGB) of one %d-spp render\n", spp);
+  // before (sky by BSDF, no splitting), the sky sampled alone, the default (sky sampled, split)
+  for (const auto& [sampled, split] : {std::pair{false, false}, std::pair{true, false}, std::pair{true, true}}) {
+    const auto with = [&, sampled = sampled, split = split](const std::function<void(Scene&)>& f) {
+      return [sampled, split, f](Scene& s) {
+        s.render.settings.environmentSampling = sampled;
+        s.render.settings.fresnelSplitting = split;
+        f(s);
+      };
+    };
+    const std::vector<std::pair<std::string, std::function<void(Scene&)>>> cases{
+        {"all lights", with([](Scene&) {})},
+        {"sun only", with([&](Scene& s) { noSky(s), noArea(s); })},
+        {"sky only", with([&](Scene& s) { noSun(s), noArea(s); })},
+        {"area lights only", with([&](Scene& s) { noSun(s), noSky(s); })},
+        {"max depth 1", with([](Scene& s) { s.render.settings.maxDepth = 1; })},
+        {"max depth 2", with([](Scene& s) { s.render.settings.maxDepth = 2; })},
+        {"max depth 3", with([](Scene& s) { s.render.settings.maxDepth = 3; })},
+        {"max depth 4", with([](Scene& s) { s.render.settings.maxDepth = 4; })},
+        {"max depth 6", with([](Scene& s) { s.render.settings.maxDepth = 6; })},
+    };
+    for (const auto& [label, set] : cases) {
+      const double n = noise(set);
+      const std::string name =
+          std::string(!sampled ? "before (sky BSDF): " : split ? "default (MIS, split): " : "sky MIS, no split: ") + label;
+      result["rows"].push_back({{"case", name}, {"noise_rmse", n}});
+      if (!json) std::printf("  %-44s %8.4f\n", name.c_str(), n);
+    }
+  }
+  if (json) std::printf("%s\n", result.dump(2).c_str());
+  return 0;
+}
+
 }  // namespace
 
 int benchRender(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
-    std::printf("usage: kurage bench render [--spp N] [--json]\n\n"
+    std::printf("usage: kurage bench render [--spp N] [--json]\n"
+                "       kurage bench render --rmse|--variance [--scene SCENE --from OUT --frame F [--quality Q]]\n"
+                "                           [--width W --height H --spp N --reference-spp R --threads T] [--json]\n\n"
                 "Renders a fixed scene (a metaball water heap over a checker ground, sun and sky) at 1280x720\n"
                 "with N samples per pixel (default 4) and max depth 8 on 1 and 2 threads; prints Mrays/s\n"
-                "(camera rays, all rays) and seconds per frame. --json prints one JSON object.\n");
+                "(camera rays, all rays) and seconds per frame. --json prints one JSON object.\n\n"
+                "--rmse: seconds and RMSE (sRGB, 0..1) of each integrator option (path as it was: sky by BSDF\n"
+                "sampling only, no Fresnel splitting; the default; with the denoiser; adaptive; whitted) against a\n"
+                "reference (the default path tracer, R spp, default 1024, another seed), on the fixed scene at 480x270 or on frame F of a\n"
+                "run (OUT/surfaces, and OUT/particles for chains) at the scene's resolution; T threads (default 2).\n"
+                "--variance: the noise of one N-spp render (default 4) by light and by path depth.\n");
     return 0;
   }
   const bool json = args.flag({"--json"});
+  const bool rmse = args.flag({"--rmse"});
+  const bool variance = args.flag({"--variance"});
+  if (rmse || variance) {
+    const auto sceneFile = args.option({"--scene"});
+    const auto from = args.option({"--from"});
+    const int frameIndex = args.intOption({"--frame"}, 0, 1000000).value_or(0);
+    const auto quality = args.option({"--quality"});
+    const auto width = args.intOption({"--width"}, 1, 16384);
+    const auto height = args.intOption({"--height"}, 1, 16384);
+    const auto sppOption = args.intOption({"--spp"}, 1, 65536);
+    const int referenceSpp = args.intOption({"--reference-spp"}, 1, 1 << 20).value_or(1024);
+    const int threads = args.intOption({"--threads"}, 1, 1024).value_or(2);
+    if (!args.positionals().empty()) args.fail("takes no positional arguments");
+    if (sceneFile.has_value() != from.has_value()) args.fail("--scene and --from go together");
+    BenchFrame frame;
+    std::shared_ptr<render::TriangleMesh> mesh;
+    std::map<std::string, render::LevelSet> surfaces;
+    std::vector<render::CurveSet> curves;
+    double time = 0.0;
+    if (sceneFile) {
+      frame.scene = loadScene(*sceneFile);
+      if (quality && *quality == "preview") applyQuality(frame.scene, Quality::Preview);
+      else if (quality && *quality != "final") args.fail("--quality must be preview or final");
+      const std::filesystem::path out(*from);
+      char name[32];
+      std::snprintf(name, sizeof name, "%04d.vdb", frameIndex);
+      surfaces = readSurfaceFile(out / "surfaces" / name);
+      if (hasChains(frame.scene)) curves.push_back(chainTubes(frame.scene, readParticleFrame(out / "particles" / name)));
+      time = frame.scene.output.frameTime(frameIndex);
+      frame.render = [&](const Scene& s, render::RenderStats* stats) { return renderSurfaces(s, surfaces, time, stats, curves); };
+    } else {
+      mesh = std::make_shared<render::TriangleMesh>(benchMesh());
+      render::RenderSettings& r = frame.scene.render.settings;
+      r.width = 480;
+      r.height = 270;
+      r.maxDepth = 8;
+      frame.scene.render.camera.position = {12, -26, 16};
+      frame.scene.render.camera.lookAt = {12, 6, 3};
+      frame.scene.render.camera.verticalFovDegrees = 40.0f;
+      frame.scene.render.sun.direction = {-0.5f, 0.6f, -1.0f};
+      frame.scene.render.ground.checkerSize = 2.0f;
+      frame.render = [&](const Scene& s, render::RenderStats* stats) {
+        render::RenderScene scene;
+        scene.meshes.push_back({mesh.get(), s.render.fluidMaterial});
+        scene.camera = s.render.camera;
+        scene.sun = s.render.sun;
+        scene.ground = s.render.ground;
+        scene.environment.type = s.render.environment.type;
+        scene.environment.zenith = s.render.environment.zenith;
+        scene.environment.horizon = s.render.environment.horizon;
+        scene.rectLights = s.render.areaLights;
+        return render::renderFrame(scene, s.render.settings, stats);
+      };
+    }
+    if (width) frame.scene.render.settings.width = *width;
+    if (height) frame.scene.render.settings.height = *height;
+    frame.scene.render.settings.samplesPerPixel = sppOption.value_or(4);
+    return rmse ? benchRmse(frame, threads, referenceSpp, json) : benchVariance(frame, threads, json);
+  }
   const int spp = args.intOption({"--spp"}, 1, 4096).value_or(4);
   if (!args.positionals().empty()) args.fail("takes no positional arguments");
 

@@ -181,6 +181,13 @@ void validate(const Scene& scene, const std::string& file) {
   if (scene.render.sun.direction.norm() <= 0.0f) fail("render.light.direction", "must not be zero");
   const RenderParams& render = scene.render;
   if (render.bitDepth != 8 && render.bitDepth != 16) fail("render.bit_depth", "must be 8 or 16");
+  if (render.settings.denoise.enabled && render.settings.integrator == render::Integrator::Whitted)
+    fail("render.denoise.enabled", "the whitted integrator makes no noise and gathers no albedo and normal buffers "
+                                   "for the denoiser; use the path integrator");
+  const render::AdaptiveSettings& adaptive = render.settings.adaptive;
+  if (adaptive.maxSamples < adaptive.minSamples)
+    fail("render.adaptive.max_samples", "must be at least min_samples (" + std::to_string(adaptive.minSamples) +
+                                            "), got " + std::to_string(adaptive.maxSamples));
   for (size_t i = 1; i < render.cameraKeys.size(); ++i)
     if (!(render.cameraKeys[i].time > render.cameraKeys[i - 1].time))
       fail("render.camera_keys[" + std::to_string(i) + "].time", "must be later than the key before");

@@ -430,6 +430,40 @@ void describe(V& v, ChainRadiusParams& p) {
   v.value("tip", p.tip, {"m", "tube radius at its last particle; linear in between", positive()});
 }
 
+inline const EnumTable<render::Integrator> kIntegrator{{"path", render::Integrator::Path},
+                                                       {"whitted", render::Integrator::Whitted}};
+
+template <class V>
+void describe(V& v, render::WhittedSettings& p) {
+  v.value("sky_directions", p.skyDirections,
+          {"", "shadow rays towards the sky per diffuse point (fixed cosine-distributed directions)", between(1, 1024)});
+  v.value("light_samples", p.lightSamples,
+          {"", "points per side of the fixed grid on each area light", between(1, 64)});
+}
+
+template <class V>
+void describe(V& v, render::AdaptiveSettings& p) {
+  v.value("enabled", p.enabled,
+          {"", "path integrator: sample each pixel until its mean is known to relative_error (samples is then ignored)"});
+  v.value("relative_error", p.relativeError,
+          {"", "target standard error of a pixel's mean luminance, relative to max(mean, 0.05)", positive()});
+  v.value("min_samples", p.minSamples, {"", "paths per pixel before the first test, and per batch after it",
+                                        between(2, 65536)});
+  v.value("max_samples", p.maxSamples, {"", "most paths per pixel", between(2, 65536)});
+}
+
+template <class V>
+void describe(V& v, render::DenoiseSettings& p) {
+  v.value("enabled", p.enabled,
+          {"", "path integrator: filter the frame (edge-avoiding a-trous wavelets guided by albedo and normal "
+               "buffers, docs/RENDERING.md)"});
+  v.value("iterations", p.iterations, {"", "filter passes; the widest reaches 2^(iterations+1) pixels", between(1, 10)});
+  v.value("color_sigma", p.colourSigma, {"", "relative colour difference at which a neighbour's weight falls to 1/e",
+                                         positive()});
+  v.value("normal_sigma", p.normalSigma, {"", "normal difference at which a neighbour's weight falls to 1/e", positive()});
+  v.value("albedo_sigma", p.albedoSigma, {"", "albedo difference at which a neighbour's weight falls to 1/e", positive()});
+}
+
 template <class V>
 void describe(V& v, RenderParams& p) {
   v.value("width", p.settings.width, {"px", "image width", between(1, 16384)});
@@ -441,6 +475,18 @@ void describe(V& v, RenderParams& p) {
   v.value("transmissive_shadows", p.settings.transmissiveShadows,
           {"", "shadow rays pass through water and glass (Fresnel transmission and absorption, without "
                "bending): far less noise under water, no caustics; false = exact light transport"});
+  v.enumeration("integrator", p.settings.integrator, kIntegrator,
+                {"", "'path' (unbiased path tracing, noise falls with samples) or 'whitted' (deterministic: specular "
+                     "reflection and refraction trees, direct light only, noise-free; docs/RENDERING.md)"});
+  v.value("environment_sampling", p.settings.environmentSampling,
+          {"", "path integrator: sample the sky as a light (by luminance), combined with BSDF sampling by "
+               "multiple importance sampling; false = the sky is found only by paths that escape"});
+  v.value("fresnel_splitting", p.settings.fresnelSplitting,
+          {"", "path integrator: where a camera ray first meets water or glass, trace both the reflected and the "
+               "refracted ray instead of choosing one at random (less noise on water surfaces)"});
+  v.object("whitted", p.settings.whitted, {"", "settings of the whitted integrator"});
+  v.object("adaptive", p.settings.adaptive, {"", "adaptive sampling to a relative error (path integrator)"});
+  v.object("denoise", p.settings.denoise, {"", "a denoiser of our own, guided by albedo and normal buffers (path integrator)"});
   v.value("transparent_background", p.settings.transparentBackground,
           {"", "PNG with alpha: the environment is not seen directly, only in reflections and lighting"});
   v.value("bit_depth", p.bitDepth, {"", "PNG bits per channel, 8 or 16", between(8, 16)});

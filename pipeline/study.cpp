@@ -78,6 +78,8 @@ void describe(V& v, Study& s) {
   v.value("rays", s.rays, {"", "surface_distance: rays from the particles' centroid", between(1, 1000000)});
   v.value("reference_samples", s.referenceSamples, {"", "render_rmse: samples per pixel of the reference", between(1, 65536)});
   v.value("reference_max_depth", s.referenceMaxDepth, {"", "render_rmse: max depth of the reference", between(1, 1024)});
+  v.value("reference_set", s.referenceSet,
+          {"", "render_rmse: scene values the reference sets besides samples, depth and seed: {\"json.path\": value, ...}"});
   v.value("repeat", s.repeat,
           {"", "runs per setting, keeping the fastest: the error is the same every time (runs are deterministic), "
                "the wall time is not", between(1, 100)});
@@ -283,6 +285,20 @@ Study parseStudy(const nlohmann::json& document, const fs::path& file) {
     }
   };
   check("set", {}, "set");
+  if (!study.referenceSet.is_object()) fail("reference_set", "must be an object of JSON paths and values");
+  if (!study.referenceSet.empty()) {  // the reference of the base scene must be a valid scene
+    nlohmann::json doc = studyRunScene(study, {});
+    try {
+      for (const auto& [path, value] : study.referenceSet.items()) setJsonPath(doc, path, value);
+    } catch (const std::invalid_argument& e) {
+      fail("reference_set", e.what());
+    }
+    try {
+      parseScene(doc, sceneName);
+    } catch (const SceneError& e) {
+      fail("reference_set", "the scene refuses it: " + std::string(e.what()));
+    }
+  }
   const auto settings = allSettings(study);
   for (size_t k = 0; k < settings.size(); ++k)
     for (size_t i = 0; i < settings[k].size(); ++i) {
@@ -536,6 +552,7 @@ private:
     setJsonPath(referenceDoc, "render.max_depth", study_.referenceMaxDepth);
     const int seed = scene.render.settings.seed;
     setJsonPath(referenceDoc, "render.seed", seed == 2147483647 ? 0 : seed + 1);
+    for (const auto& [path, value] : study_.referenceSet.items()) setJsonPath(referenceDoc, path, value);
     const std::string referenceKey = key + referenceDoc["render"].dump();
     if (referenceKey_ != referenceKey) {
       const Scene referenceScene = parseScene(referenceDoc, "reference");

@@ -27,7 +27,8 @@
 //   surface_distance  mean distance (m) of the fluid's level set at `duration` (0: the initial
 //       particle lattice) from the exact metaball surface, along `rays` rays. Times surfacing.
 //   render_rmse  RMSE (sRGB, 0..1) of the frame at `duration` against the same frame rendered
-//       with `reference_samples` samples, depth `reference_max_depth` and another seed. Times
+//       with `reference_samples` samples, depth `reference_max_depth`, another seed and the values
+//       of `reference_set` (e.g. the integrator, so that every run meets one reference). Times
 //       rendering (simulation and surfacing are shared by runs that differ only in render keys).
 //   density_error  the fluid's mean compression over the run (each step's mean over fluid
 //       particles of max(rho - rho0, 0) / rho0, averaged over the steps; the largest step's value
@@ -88,6 +89,9 @@ struct Study {
   int rays = 2000;               // surface_distance
   int referenceSamples = 256;    // render_rmse
   int referenceMaxDepth = 16;    // render_rmse
+  // render_rmse: scene values the reference sets after samples, depth and seed, {"json.path":
+  // value, ...} (e.g. the integrator, so that runs of other integrators share one reference).
+  nlohmann::json referenceSet = nlohmann::json::object();
   int repeat = 1;  // runs per setting; the row keeps the fastest (runs are deterministic, times are not)
 
   std::filesystem::path file;  // where it was loaded from (for relative paths and messages)

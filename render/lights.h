@@ -4,8 +4,7 @@
 // irradiance W/m^2 in the same units.
 //
 // The sun and the area lights are sampled by next-event estimation (tracer.cpp); the
-// environment is found only by rays that escape (no importance sampling), which is exact for the
-// analytic furnace tests and fine for smooth skies.
+// environment too, by its luminance (EnvironmentSampler), unless RenderSettings turns that off.
 #pragma once
 
 #include "render/image.h"
@@ -13,6 +12,7 @@
 #include <Eigen/Core>
 
 #include <memory>
+#include <vector>
 
 namespace kurage::render {
 
@@ -54,5 +54,40 @@ struct Environment {
 
 // Radiance of the environment in unit direction `direction`.
 Eigen::Vector3f environmentRadiance(const Environment& environment, const Eigen::Vector3f& direction);
+
+// Importance sampling of the environment in proportion to its luminance: a piecewise-constant
+// 2-D distribution over the equirectangular square (u, v) in [0,1)^2 (pbrt's Distribution2D,
+// Pharr, Jakob & Humphreys, 4th ed., sec. A.5 and 12.6), one cell per image pixel for an image
+// sky (so a cell's value is exactly what environmentRadiance returns inside it) and 64 x 32
+// cells for the analytic skies (their luminance at the cell centre). A cell's weight is its
+// luminance times sin(theta) at its centre, theta the angle from `up`; the solid-angle pdf of a
+// direction is p(u, v) / (2 pi^2 sin(theta)).
+//
+// With `below` (a unit ground normal), cells that lie wholly below that plane's horizon get
+// weight 0: the infinite ground hides them from every point above it. Directions of weight 0
+// are left to BSDF sampling, which the MIS weight (power heuristic) then counts in full, so the
+// estimate stays unbiased. Sampling allocates nothing; build once per frame (one radiance
+// lookup and 12 bytes per cell: a 2048 x 1024 sky image costs about 25 MB and a fraction of a
+// second per frame; no sky image is shipped yet, so no downsampling is done).
+class EnvironmentSampler {
+public:
+  EnvironmentSampler() = default;  // samples nothing (pdf 0 everywhere)
+  EnvironmentSampler(const Environment& environment, const Eigen::Vector3f* below);
+  bool empty() const { return total_ <= 0.0; }
+  // A direction for two uniform numbers in [0,1); pdf (per solid angle) 0 when nothing was drawn.
+  Eigen::Vector3f sample(float u1, float u2, float& pdf) const;
+  // The solid-angle pdf with which sample() returns unit `direction`.
+  float pdf(const Eigen::Vector3f& direction) const;
+
+private:
+  Eigen::Vector3f directionAt(float u, float v) const;
+  int width_ = 0, height_ = 0;
+  std::vector<float> weights_;     // width x height, row-major (v rows)
+  std::vector<double> rowCdf_;     // height x (width + 1): cumulative weights within each row
+  std::vector<double> marginal_;   // height + 1: cumulative row sums
+  double total_ = 0.0;
+  Eigen::Vector3f up_{0, 0, 1}, tangent_{1, 0, 0}, bitangent_{0, 1, 0};
+  float rotation_ = 0.0f;  // radians
+};
 
 }  // namespace kurage::render

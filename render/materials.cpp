@@ -122,6 +122,19 @@ Vector3f evaluateDiffuseLobe(const Material& m, const Vector3f& albedo, const Ve
   return Vector3f::Zero();
 }
 
+float diffuseLobePdf(const Material& m, const Vector3f& wo, const Vector3f& wi, const Vector3f& ns,
+                     const Vector3f& ng) {
+  const Frame f = facingFrame(wo, ns, ng);
+  if (m.type == MaterialType::Diffuse) return wi.dot(f.g) > 0.0f ? kInvPi * std::max(0.0f, wi.dot(f.n)) : 0.0f;
+  if (m.type == MaterialType::Translucent) {
+    if (wi.dot(f.g) >= 0.0f) return 0.0f;
+    const float etaI = f.outside ? 1.0f : m.ior;
+    const float etaT = f.outside ? m.ior : 1.0f;
+    return (1.0f - fresnelDielectric(f.cosO, etaI, etaT)) * kInvPi * std::max(0.0f, -wi.dot(f.n));
+  }
+  return 0.0f;
+}
+
 bool sampleMaterial(const Material& m, const Vector3f& albedo, const Vector3f& wo, const Vector3f& ns,
                     const Vector3f& ng, float u1, float u2, float u3, ScatterSample& s) {
   const Frame f = facingFrame(wo, ns, ng);

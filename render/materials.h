@@ -51,6 +51,12 @@ inline bool hasDiffuseLobe(MaterialType t) { return t == MaterialType::Diffuse |
 Eigen::Vector3f evaluateDiffuseLobe(const Material& m, const Eigen::Vector3f& albedo, const Eigen::Vector3f& wo,
                                     const Eigen::Vector3f& wi, const Eigen::Vector3f& ns, const Eigen::Vector3f& ng);
 
+// The solid-angle pdf with which sampleMaterial returns wi through the non-delta lobe (0 for
+// delta lobes and for directions that lobe never produces): cos / pi for diffuse, (1 - F) cos / pi
+// on the far side for translucent. For multiple importance sampling with the lights.
+float diffuseLobePdf(const Material& m, const Eigen::Vector3f& wo, const Eigen::Vector3f& wi,
+                     const Eigen::Vector3f& ns, const Eigen::Vector3f& ng);
+
 struct ScatterSample {
   Eigen::Vector3f direction;  // wi, unit
   Eigen::Vector3f weight;     // f |cos| / pdf

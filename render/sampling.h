@@ -64,6 +64,36 @@ inline Eigen::Vector2f pixelSamplePosition(uint32_t s, uint32_t n, uint32_t pixe
   return {x, y};
 }
 
+// Second dimension of the Sobol' sequence (generator matrix of Pascal's triangle mod 2); with
+// radicalInverse2 it forms a (0,2)-sequence, so that every prefix of 2^k points is stratified in
+// both dimensions (Kollig & Keller 2002). Used where the sample count is not known in advance
+// (adaptive sampling).
+inline float sobol2(uint32_t index) {
+  uint32_t result = 0;
+  for (uint32_t v = 1u << 31u; index != 0; index >>= 1u, v ^= v >> 1u)
+    if (index & 1u) result ^= v;
+  return static_cast<float>(result) * 0x1p-32f;
+}
+
+// Veach's power heuristic (beta = 2) for combining two sampling techniques (Veach & Guibas
+// 1995, "Optimally combining sampling techniques for Monte Carlo rendering"): the weight of a
+// sample drawn with pdf `a` when the other technique would have drawn it with pdf `b`.
+inline float powerHeuristic(float a, float b) {
+  const float a2 = a * a, b2 = b * b;
+  return a2 + b2 > 0.0f ? a2 / (a2 + b2) : 0.0f;
+}
+
+// Sub-pixel position of sample s of an open-ended sequence: the (0,2)-sequence (radicalInverse2,
+// sobol2) rotated toroidally per pixel as pixelSamplePosition does, so that the first 2^k
+// samples of any pixel are stratified whatever number is finally taken (adaptive sampling).
+inline Eigen::Vector2f pixelSamplePositionProgressive(uint32_t s, uint32_t pixelIndex, uint32_t seed) {
+  const uint32_t h = pcgHash(pixelIndex * 2654435761u ^ pcgHash(seed + 0x51ED270Bu));
+  float x = radicalInverse2(s) + toUnitFloat(h), y = sobol2(s) + toUnitFloat(pcgHash(h));
+  x -= std::floor(x);
+  y -= std::floor(y);
+  return {x, y};
+}
+
 // An orthonormal basis (t, b, n) around unit n (Duff et al. 2017, branchless).
 inline void orthonormalBasis(const Eigen::Vector3f& n, Eigen::Vector3f& t, Eigen::Vector3f& b) {
   const float sign = std::copysign(1.0f, n.z());

@@ -259,12 +259,15 @@ struct Frame {
   Vector3f groundU, groundV;         // unit, spanning the ground plane (checker axes)
   Vector3f clipNormal;               // unit
   float epsilon = 1e-4f;             // ray offset against self-intersection, metres
+  EnvironmentSampler environment;    // empty unless the environment is sampled as a light
+  std::vector<Eigen::Vector2f> skySet;  // whitted: the fixed points warped to sky directions
 };
 
 // Ray statistics of one tile, added to the frame's totals when the tile is done.
 struct Counters {
   uint64_t primary = 0;
   uint64_t total = 0;
+  uint64_t samples = 0;
 };
 
 struct Hit {
@@ -445,8 +448,15 @@ Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction,
 // Fraction of light that reaches `origin` along `direction` from distance tfar. Opaque hits
 // give 0. With transmissive shadows, dielectric surfaces let (1 - F) through at each crossing
 // and absorb exp(-absorption * length) inside, the ray going straight on (no refraction).
+// With `snellsWindow` (the sky's shadow rays), the ray stands for the refracted path that leaves
+// the surface at the same angle on the air's side: its Fresnel factor is taken at that angle (no
+// total internal reflection) and its radiance is divided by ior^2 where it leaves a dielectric
+// (the sky seen from under a flat surface is squeezed into a cone whose projected solid angle is
+// 1/ior^2 of the hemisphere's, and the tracer does not scale radiance at refractions; see
+// materials.cpp). For a flat surface over a parallel floor the unbent ray then gives exactly the
+// irradiance of the refracted paths (conservation of etendue, n^2 cos dw invariant).
 Vector3f transmittance(const Frame& f, Vector3f origin, const Vector3f& direction, float tfar,
-                       RTCIntersectContext& context, Counters& counters) {
+                       RTCIntersectContext& context, Counters& counters, bool snellsWindow = false) {
   if (!f.settings->transmissiveShadows)
     return occluded(f, origin, direction, tfar, context, counters) ? Vector3f::Zero() : Vector3f::Ones();
   Vector3f through = Vector3f::Ones();
@@ -459,8 +469,15 @@ Vector3f transmittance(const Frame& f, Vector3f origin, const Vector3f& directio
     if (m.type != MaterialType::Dielectric) return Vector3f::Zero();
     const float cosine = direction.dot(hit.ng);
     const bool leaving = cosine > 0.0f;  // the segment just travelled was inside
-    through *= 1.0f - (leaving ? fresnelDielectric(cosine, m.ior, 1.0f) : fresnelDielectric(-cosine, 1.0f, m.ior));
+    // Snell's window: the unbent ray stands for the refracted one that meets the surface at this
+    // angle from the air's side, so its Fresnel factor is the air side's (no total internal
+    // reflection; the n^2 below accounts for the narrower cone under water).
+    if (snellsWindow)
+      through *= 1.0f - fresnelDielectric(std::abs(cosine), 1.0f, m.ior);
+    else
+      through *= 1.0f - (leaving ? fresnelDielectric(cosine, m.ior, 1.0f) : fresnelDielectric(-cosine, 1.0f, m.ior));
     if (leaving) through = through.cwiseProduct((-m.absorption * t).array().exp().matrix());
+    if (leaving && snellsWindow) through /= m.ior * m.ior;
     if (through.maxCoeff() <= 0.0f) return Vector3f::Zero();
     origin = hit.point + (leaving ? f.epsilon : -f.epsilon) * hit.ng;
     tfar = tfar == kInfinity ? kInfinity : tfar - t;
@@ -469,7 +486,16 @@ Vector3f transmittance(const Frame& f, Vector3f origin, const Vector3f& directio
   return Vector3f::Zero();
 }
 
-// Direct light from the sun and the area lights at a non-specular vertex (one sample each).
+// Whether the infinite ground stands in the way of the ray (shadow rays ignore it otherwise: it
+// casts no shadows, but the sky below its horizon must not light anything above it).
+bool groundBlocks(const Frame& f, const Vector3f& origin, const Vector3f& direction) {
+  if (!f.input->ground.enabled) return false;
+  const float denominator = direction.dot(f.groundNormal);
+  return denominator != 0.0f && (f.input->ground.point - origin).dot(f.groundNormal) / denominator > 0.0f;
+}
+
+// Direct light from the sun and the area lights at a non-specular vertex (one sample each), and
+// from the environment when it is sampled (one direction, MIS-weighted against BSDF sampling).
 Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSampler& rng,
                      RTCIntersectContext& context, Counters& counters) {
   static const Material kGroundMaterial{};
@@ -506,12 +532,44 @@ Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSa
                  transmittance(f, origin(wi), wi, distance * (1.0f - 1e-4f), context, counters)) *
              (cosLight * area / distance2);
   }
+  // Environment: a direction by luminance, weighted by the power heuristic against the BSDF's
+  // pdf for the same direction (Veach 1997, ch. 9); tracePath gives escaping BSDF samples the
+  // complementary weight.
+  if (!f.environment.empty()) {
+    const float e1 = rng.next(), e2 = rng.next();
+    float pdfLight = 0.0f;
+    const Vector3f wi = f.environment.sample(e1, e2, pdfLight);
+    if (pdfLight > 0.0f) {
+      const Vector3f fcos = evaluateDiffuseLobe(material, hit.albedo, wo, wi, hit.ns, hit.ng);
+      if (fcos.maxCoeff() > 0.0f && !groundBlocks(f, hit.point, wi)) {
+        const float weight = powerHeuristic(pdfLight, diffuseLobePdf(material, wo, wi, hit.ns, hit.ng)) / pdfLight;
+        sum += fcos.cwiseProduct(environmentRadiance(f.input->environment, wi))
+                   .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters, true)) *
+               weight;
+      }
+    }
+  }
   return sum;
 }
 
+// The denoiser's features of one camera path (denoise.h): albedo and normal at its first
+// non-specular vertex, the albedo times the specular chain's throughput before it.
+struct PathFeatures {
+  Vector3f albedo = Vector3f::Zero();
+  Vector3f normal = Vector3f::Zero();
+};
+
 // Radiance along one camera ray; `hitSomething` tells whether the camera ray met geometry.
+// `features`, when given, receives the path's denoiser features.
+//
+// With RenderSettings::fresnelSplitting, where the camera ray (firstDepth 0) first meets a
+// dielectric from outside, both branches are followed: the reflected one as a path of its own
+// (this function again, from depth 1) with weight F, the refracted one by this path with
+// weight 1 - F, instead of choosing one with probabilities F and 1 - F. Same expectation, no
+// noise from the choice (a splitting estimator, Arvo & Kirk 1990).
 Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSampler& rng,
-                   RTCIntersectContext& context, Counters& counters, bool& hitSomething) {
+                   RTCIntersectContext& context, Counters& counters, bool& hitSomething,
+                   PathFeatures* features = nullptr, int firstDepth = 0) {
   static const Material kGroundMaterial{};
   const RenderSettings& settings = *f.settings;
   Vector3f radiance = Vector3f::Zero();
@@ -519,15 +577,31 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
   Vector3f absorption = Vector3f::Zero();  // of the medium the ray travels in (0: air)
   bool specular = true;                    // the camera counts as a specular vertex
   bool cameraChain = true;                 // every vertex so far was specular
+  bool refractedOnly = false;              // every vertex since the last diffuse one refracted
+  float bsdfPdf = 0.0f;                    // pdf of the last scattering if it was not specular
+  const bool sampledSky = !f.environment.empty();
+  float splitFactor = 1.0f;                // 1 - F where the camera ray was split (fresnelSplitting)
   hitSomething = false;
-  for (int depth = 0;; ++depth) {
+  for (int depth = firstDepth;; ++depth) {
     const Hit hit = intersect(f, origin, direction, context, counters);
     if (depth == 0) hitSomething = hit.kind != Hit::None;
     if (hit.kind != Hit::None && absorption.maxCoeff() > 0.0f)
       throughput = throughput.cwiseProduct((-absorption * hit.t).array().exp().matrix());  // Beer-Lambert
+    if (features && cameraChain && (hit.kind == Hit::None || hit.kind == Hit::Light)) features->albedo = throughput;
     if (hit.kind == Hit::None) {
       if (depth == 0 && settings.transparentBackground) break;
-      radiance += throughput.cwiseProduct(environmentRadiance(f.input->environment, direction));
+      // With the sky sampled as a light: escaping straight from a diffuse vertex takes the power
+      // heuristic's weight; through a chain of refractions only it was counted by the unbent
+      // shadow ray already (transmissive shadows).
+      float weight = 1.0f;
+      if (sampledSky && !cameraChain) {
+        if (!specular && bsdfPdf > 0.0f && !refractedOnly)
+          weight = powerHeuristic(bsdfPdf, f.environment.pdf(direction));
+        else if (refractedOnly && settings.transmissiveShadows)
+          weight = 0.0f;
+      }
+      if (weight > 0.0f)
+        radiance += throughput.cwiseProduct(environmentRadiance(f.input->environment, direction)) * weight;
       if (specular && f.sunOn && f.sunCosMax < 1.0f && direction.dot(f.toSun) >= f.sunCosMax)
         radiance += throughput.cwiseProduct(f.sunRadiance);
       break;
@@ -540,14 +614,36 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
     if (depth >= settings.maxDepth) break;
     const Material& material = hit.material ? *hit.material : kGroundMaterial;
     const Vector3f wo = -direction;
+    if (features && cameraChain && hasDiffuseLobe(material.type)) {
+      features->albedo = throughput.cwiseProduct(hit.albedo);
+      features->normal = wo.dot(hit.ng) >= 0.0f ? hit.ns : Vector3f(-hit.ns);
+    }
     if (hasDiffuseLobe(material.type))
       radiance += throughput.cwiseProduct(directLight(f, hit, wo, rng, context, counters));
     else
       rng.next(), rng.next();  // keep the dimension count independent of the material
     for (size_t i = 0; i < f.input->rectLights.size() && !hasDiffuseLobe(material.type); ++i) rng.next(), rng.next();
+    if (sampledSky && !hasDiffuseLobe(material.type)) rng.next(), rng.next();
 
     ScatterSample s;
-    const float u1 = rng.next(), u2 = rng.next(), u3 = rng.next();
+    float u1 = rng.next();
+    const float u2 = rng.next(), u3 = rng.next();
+    if (depth == 0 && settings.fresnelSplitting && material.type == MaterialType::Dielectric &&
+        wo.dot(hit.ng) > 0.0f) {
+      float cosO = wo.dot(hit.ns);
+      if (!(cosO > 1e-6f)) cosO = std::max(wo.dot(hit.ng), 1e-6f);
+      const float fresnel = fresnelDielectric(cosO, 1.0f, material.ior);
+      if (fresnel > 0.0f && fresnel < 1.0f &&
+          sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, u2, u3, s) && !s.transmitted) {
+        bool ignored = false;
+        const Vector3f start = hit.point + (s.direction.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng;
+        radiance += fresnel * throughput.cwiseProduct(
+                                  tracePath(f, start, s.direction, rng, context, counters, ignored, nullptr, 1));
+        throughput *= 1.0f - fresnel;
+        splitFactor = 1.0f - fresnel;
+        u1 = 1.0f - 0x1p-24f;  // this path refracts
+      }
+    }
     if (!sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, u1, u2, u3, s)) break;
     throughput = throughput.cwiseProduct(s.weight);
     // With transmissive shadows, light behind a diffuse vertex and a chain of specular ones was
@@ -555,6 +651,14 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
     // pure specular chains from the camera.
     specular = s.specular && (cameraChain || !settings.transmissiveShadows);
     cameraChain = cameraChain && s.specular;
+    if (!s.specular) {
+      bsdfPdf = diffuseLobePdf(material, wo, s.direction, hit.ns, hit.ng);
+      refractedOnly = false;
+    } else {
+      const bool refracted = s.transmitted && material.type == MaterialType::Dielectric;
+      refractedOnly = (refractedOnly || bsdfPdf > 0.0f) && refracted;
+      bsdfPdf = 0.0f;
+    }
     if (s.transmitted && hit.material) {  // crossing the surface: entering if wo was outside
       const bool entering = wo.dot(hit.ng) > 0.0f;
       absorption = entering ? material.absorption : Vector3f::Zero();
@@ -562,7 +666,9 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
     origin = hit.point + (s.direction.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng;
     direction = s.direction;
 
-    const float survival = throughput.maxCoeff();  // Russian roulette once the throughput drops below 1
+    // Russian roulette once the throughput drops below 1 (not counting the split's deterministic
+    // factor, which would only add the roulette's noise to what splitting removed)
+    const float survival = throughput.maxCoeff() / splitFactor;
     const float u = rng.next();
     if (depth >= 2 && survival < 1.0f) {
       if (u >= survival) break;
@@ -572,6 +678,132 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
   return radiance;
 }
 
+// Whitted integrator (see Integrator in tracer.h). Direct light at a diffuse point, no noise:
+// the sun along its centre direction, each area light at the centres of an n x n grid, the sky
+// along the frame's fixed cosine-distributed directions about the shading normal, turned to wo's
+// side (cosine weighting cancels the cosine: sum L T / K estimates E / pi).
+Vector3f whittedDirect(const Frame& f, const Hit& hit, const Material& material, const Vector3f& albedo,
+                       const Vector3f& wo, RTCIntersectContext& context, Counters& counters) {
+  const bool outside = wo.dot(hit.ng) >= 0.0f;
+  const Vector3f g = outside ? hit.ng : Vector3f(-hit.ng);
+  Vector3f n = outside ? hit.ns : Vector3f(-hit.ns);
+  if (!(wo.dot(n) > 1e-6f)) n = g;
+  const auto origin = [&](const Vector3f& wi) {
+    return Vector3f(hit.point + (wi.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng);
+  };
+  const float invPi = 1.0f / std::numbers::pi_v<float>;
+  const auto fcos = [&](const Vector3f& wi) {
+    return wi.dot(g) > 0.0f ? Vector3f(albedo * (invPi * std::max(0.0f, wi.dot(n)))) : Vector3f::Zero();
+  };
+  (void)material;
+  Vector3f sum = Vector3f::Zero();
+  if (f.sunOn) {
+    const Vector3f c = fcos(f.toSun);
+    if (c.maxCoeff() > 0.0f)
+      sum += c.cwiseProduct(f.input->sun.irradiance)
+                 .cwiseProduct(transmittance(f, origin(f.toSun), f.toSun, kInfinity, context, counters));
+  }
+  const int grid = f.settings->whitted.lightSamples;
+  for (const RectLight& l : f.input->rectLights) {
+    const Vector3f normal = l.edgeU.cross(l.edgeV);
+    const float area = normal.norm();
+    if (area == 0.0f) continue;
+    for (int j = 0; j < grid; ++j)
+      for (int i = 0; i < grid; ++i) {
+        const Vector3f q = l.corner + (float(i) + 0.5f) / float(grid) * l.edgeU + (float(j) + 0.5f) / float(grid) * l.edgeV;
+        const Vector3f d = q - hit.point;
+        const float distance2 = d.squaredNorm();
+        if (!(distance2 > 0.0f)) continue;
+        const float distance = std::sqrt(distance2);
+        const Vector3f wi = d / distance;
+        const float cosLight = -wi.dot(normal) / area;
+        const Vector3f c = fcos(wi);
+        if (cosLight <= 0.0f || c.maxCoeff() <= 0.0f) continue;
+        sum += c.cwiseProduct(l.radiance).cwiseProduct(
+                   transmittance(f, origin(wi), wi, distance * (1.0f - 1e-4f), context, counters)) *
+               (cosLight * area / (distance2 * float(grid * grid)));
+      }
+  }
+  Vector3f sky = Vector3f::Zero();
+  for (const Eigen::Vector2f& u : f.skySet) {
+    const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
+    if (wi.dot(g) <= 0.0f || groundBlocks(f, hit.point, wi)) continue;
+    sky += environmentRadiance(f.input->environment, wi)
+               .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters, true));
+  }
+  if (!f.skySet.empty()) sum += albedo.cwiseProduct(sky) / float(f.skySet.size());
+  return sum;
+}
+
+constexpr float kWhittedCutoff = 1e-3f;  // branches whose weight falls below this are dropped
+
+// Radiance along a ray by the Whitted integrator; `weight` is the product of the Fresnel and
+// mirror factors so far (for the cutoff), `absorption` the medium's coefficient (0: air).
+Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& direction, int depth,
+                      const Vector3f& absorption, float weight, RTCIntersectContext& context, Counters& counters,
+                      bool* hitSomething) {
+  static const Material kGroundMaterial{};
+  const Hit hit = intersect(f, origin, direction, context, counters);
+  if (hitSomething) *hitSomething = hit.kind != Hit::None;
+  if (hit.kind == Hit::None) {
+    if (depth == 0 && f.settings->transparentBackground) return Vector3f::Zero();
+    Vector3f l = environmentRadiance(f.input->environment, direction);
+    if (f.sunOn && f.sunCosMax < 1.0f && direction.dot(f.toSun) >= f.sunCosMax) l += f.sunRadiance;
+    return l;
+  }
+  const Vector3f attenuation =
+      absorption.maxCoeff() > 0.0f ? Vector3f((-absorption * hit.t).array().exp().matrix()) : Vector3f::Ones();
+  if (hit.kind == Hit::Light)
+    return direction.dot(hit.ng) < 0.0f
+               ? Vector3f(attenuation.cwiseProduct(f.input->rectLights[size_t(hit.light)].radiance))
+               : Vector3f::Zero();
+  if (depth >= f.settings->maxDepth) return Vector3f::Zero();
+  const Material& material = hit.material ? *hit.material : kGroundMaterial;
+  const Vector3f wo = -direction;
+  Vector3f radiance = Vector3f::Zero();
+  const auto follow = [&](const ScatterSample& s, const Vector3f& factor) {
+    const float branch = weight * factor.maxCoeff();
+    if (!(branch >= kWhittedCutoff)) return;
+    Vector3f medium = absorption;
+    if (s.transmitted && hit.material) medium = wo.dot(hit.ng) > 0.0f ? material.absorption : Vector3f::Zero();
+    const Vector3f next = hit.point + (s.direction.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng;
+    radiance += factor.cwiseProduct(traceWhitted(f, next, s.direction, depth + 1, medium, branch, context, counters, nullptr));
+  };
+  // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
+  const auto fresnel = [&] {
+    const bool outside = wo.dot(hit.ng) >= 0.0f;
+    float cosO = wo.dot(outside ? hit.ns : Vector3f(-hit.ns));
+    if (!(cosO > 1e-6f)) cosO = std::max(std::abs(wo.dot(hit.ng)), 1e-6f);
+    return fresnelDielectric(cosO, outside ? 1.0f : material.ior, outside ? material.ior : 1.0f);
+  };
+  ScatterSample s;
+  constexpr float kAlmostOne = 1.0f - 0x1p-24f;
+  switch (material.type) {
+    case MaterialType::Diffuse:
+      radiance = whittedDirect(f, hit, material, hit.albedo, wo, context, counters);
+      break;
+    case MaterialType::Mirror:
+      if (sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s)) follow(s, s.weight);
+      break;
+    case MaterialType::Dielectric: {
+      const float F = fresnel();
+      if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s))
+        follow(s, Vector3f::Constant(F));
+      if (F < 1.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, kAlmostOne, 0.5f, 0.5f, s))
+        follow(s, Vector3f::Constant(1.0f - F));
+      break;
+    }
+    case MaterialType::Translucent: {
+      const float F = fresnel();
+      if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s) && !s.transmitted)
+        follow(s, Vector3f::Constant(F));
+      radiance += whittedDirect(f, hit, material, hit.albedo.cwiseProduct(hit.albedo) * (1.0f - F), wo, context, counters);
+      break;
+    }
+  }
+  return attenuation.cwiseProduct(radiance);
+}
+
 }  // namespace
 
 Image renderFrame(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats) {
@@ -579,6 +811,12 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
   if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0)
     throw std::invalid_argument("renderFrame: width, height and samplesPerPixel must be positive");
   if (settings.maxDepth < 1) throw std::invalid_argument("renderFrame: maxDepth must be >= 1");
+  if (settings.whitted.skyDirections < 1 || settings.whitted.lightSamples < 1)
+    throw std::invalid_argument("renderFrame: whitted skyDirections and lightSamples must be >= 1");
+  if (settings.adaptive.enabled &&
+      !(settings.adaptive.relativeError > 0.0f && settings.adaptive.minSamples >= 2 &&
+        settings.adaptive.maxSamples >= settings.adaptive.minSamples))
+    throw std::invalid_argument("renderFrame: adaptive sampling needs relativeError > 0 and 2 <= minSamples <= maxSamples");
   if (scene.sun.direction.squaredNorm() == 0.0f) throw std::invalid_argument("renderFrame: zero sun direction");
   if (!(scene.sun.angularDiameterDegrees >= 0.0f && scene.sun.angularDiameterDegrees < 90.0f))
     throw std::invalid_argument("renderFrame: sun angular diameter must be in [0, 90) degrees");
@@ -652,12 +890,28 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
     frame.groundV = frame.groundNormal.cross(frame.groundU);
   }
   if (scene.clip.enabled) frame.clipNormal = scene.clip.normal.normalized();
+  const bool whitted = settings.integrator == Integrator::Whitted;
+  if (settings.environmentSampling && !whitted)
+    frame.environment = EnvironmentSampler(scene.environment, scene.ground.enabled ? &frame.groundNormal : nullptr);
+  if (whitted)  // fixed Hammersley points, shifted half a stratum off the pole
+    for (int k = 0; k < settings.whitted.skyDirections; ++k)
+      frame.skySet.emplace_back((float(k) + 0.5f) / float(settings.whitted.skyDirections),
+                                radicalInverse2(uint32_t(k)) + 0.5f / float(settings.whitted.skyDirections));
 
   Image image(settings.width, settings.height);
   const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
   const int tilesY = (settings.height + kTileSize - 1) / kTileSize;
-  const int n = settings.samplesPerPixel;
-  std::atomic<uint64_t> primaryRays{0}, totalRays{0};
+  const int nFixed = settings.samplesPerPixel;
+  const AdaptiveSettings adaptive = settings.adaptive;
+  std::atomic<uint64_t> primaryRays{0}, totalRays{0}, samples{0};
+  const bool denoising = settings.denoise.enabled && !whitted;
+  FeatureBuffers features;
+  if (denoising) {
+    features.width = settings.width;
+    features.height = settings.height;
+    features.albedo.assign(size_t(settings.width) * size_t(settings.height), Vector3f::Zero());
+    features.normal = features.albedo;
+  }
   tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& tiles) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -667,20 +921,76 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
       for (int y = y0; y < std::min(y0 + kTileSize, settings.height); ++y)
         for (int x = x0; x < std::min(x0 + kTileSize, settings.width); ++x) {
           const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(settings.width) + static_cast<uint32_t>(x);
-          Vector3f sum = Vector3f::Zero();
+          Vector3f sum = Vector3f::Zero(), albedoSum = Vector3f::Zero(), normalSum = Vector3f::Zero();
           int covered = 0;
-          for (int s = 0; s < n; ++s) {
-            PixelSampler rng(pixel, static_cast<uint32_t>(s), static_cast<uint32_t>(settings.seed));
-            const Vector2f offset = pixelSamplePosition(uint32_t(s), uint32_t(n), pixel, static_cast<uint32_t>(settings.seed));
-            const float lens1 = rng.next(), lens2 = rng.next();
-            Vector3f origin, direction;
-            camera.generate(static_cast<float>(x) + offset.x(), static_cast<float>(y) + offset.y(), lens1, lens2,
-                            origin, direction);
-            ++counters.primary;
-            bool hitSomething = false;
-            sum += tracePath(frame, origin, direction, rng, context, counters, hitSomething);
-            covered += hitSomething ? 1 : 0;
+          int n = nFixed;
+          if (whitted) {
+            // Fixed sub-pixel positions (a Hammersley set, half a stratum in) and lens points.
+            for (int s = 0; s < n; ++s) {
+              const float sx = (float(s) + 0.5f) / float(n);
+              float sy = radicalInverse2(uint32_t(s)) + 0.5f / float(n);
+              sy -= std::floor(sy);
+              Vector3f origin, direction;
+              camera.generate(float(x) + sx, float(y) + sy, sy, sx, origin, direction);
+              ++counters.primary;
+              bool hitSomething = false;
+              sum += traceWhitted(frame, origin, direction, 0, Vector3f::Zero(), 1.0f, context, counters, &hitSomething);
+              covered += hitSomething ? 1 : 0;
+            }
+          } else if (adaptive.enabled) {
+            // Batches of minSamples until the standard error of the mean luminance is small
+            // enough relative to the mean (AdaptiveSettings).
+            double lumSum = 0.0, lumSquares = 0.0;
+            n = 0;
+            while (n < adaptive.maxSamples) {
+              const int batchEnd = std::min(n + adaptive.minSamples, adaptive.maxSamples);
+              for (int s = n; s < batchEnd; ++s) {
+                PixelSampler rng(pixel, static_cast<uint32_t>(s), static_cast<uint32_t>(settings.seed));
+                const Vector2f offset = pixelSamplePositionProgressive(uint32_t(s), pixel, static_cast<uint32_t>(settings.seed));
+                const float lens1 = rng.next(), lens2 = rng.next();
+                Vector3f origin, direction;
+                camera.generate(static_cast<float>(x) + offset.x(), static_cast<float>(y) + offset.y(), lens1, lens2,
+                                origin, direction);
+                ++counters.primary;
+                bool hitSomething = false;
+                PathFeatures pf;
+                const Vector3f value = tracePath(frame, origin, direction, rng, context, counters, hitSomething,
+                                                 denoising ? &pf : nullptr);
+                sum += value;
+                albedoSum += pf.albedo;
+                normalSum += pf.normal;
+                covered += hitSomething ? 1 : 0;
+                const double lum = 0.2126 * value.x() + 0.7152 * value.y() + 0.0722 * value.z();
+                lumSum += lum;
+                lumSquares += lum * lum;
+              }
+              n = batchEnd;
+              const double mean = lumSum / n;
+              const double variance = std::max(0.0, (lumSquares - n * mean * mean) / (n - 1));
+              if (std::sqrt(variance / n) <= adaptive.relativeError * std::max(mean, 0.05)) break;
+            }
+          } else {
+            for (int s = 0; s < n; ++s) {
+              PixelSampler rng(pixel, static_cast<uint32_t>(s), static_cast<uint32_t>(settings.seed));
+              const Vector2f offset = pixelSamplePosition(uint32_t(s), uint32_t(n), pixel, static_cast<uint32_t>(settings.seed));
+              const float lens1 = rng.next(), lens2 = rng.next();
+              Vector3f origin, direction;
+              camera.generate(static_cast<float>(x) + offset.x(), static_cast<float>(y) + offset.y(), lens1, lens2,
+                              origin, direction);
+              ++counters.primary;
+              bool hitSomething = false;
+              PathFeatures pf;
+              sum += tracePath(frame, origin, direction, rng, context, counters, hitSomething, denoising ? &pf : nullptr);
+              albedoSum += pf.albedo;
+              normalSum += pf.normal;
+              covered += hitSomething ? 1 : 0;
+            }
           }
+          if (denoising) {
+            features.albedo[pixel] = albedoSum / float(n);
+            features.normal[pixel] = normalSum / float(n);
+          }
+          counters.samples += uint64_t(n);
           Eigen::Vector4f pixelValue(0, 0, 0, 1);
           if (settings.transparentBackground) {
             pixelValue[3] = static_cast<float>(covered) / static_cast<float>(n);
@@ -693,11 +1003,14 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
     }
     primaryRays += counters.primary;
     totalRays += counters.total;
+    samples += counters.samples;
   });
   throwIfError(device.get(), errors, "rendering");
+  if (denoising) image = denoise(image, features, settings.denoise);
   if (stats) {
     stats->primaryRays = primaryRays;
     stats->totalRays = totalRays;
+    stats->samples = samples;
     stats->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   return image;

@@ -5,11 +5,15 @@
 // infinite checker ground, lit by a sun, area lights and the environment (lights.h), seen through
 // a perspective camera (camera.h).
 //
-// The integrator is a unidirectional path tracer with next-event estimation for the sun and the
-// area lights at every non-specular vertex, Russian roulette once a path's throughput falls
-// below 1 (from the third bounce on), and a hard maximum number of scattering events. Light
-// sources are added on hit only after a specular bounce or at the camera, so no path is counted
-// twice. By default shadow rays pass through dielectrics (RenderSettings::transmissiveShadows).
+// The default integrator is a unidirectional path tracer with next-event estimation for the sun,
+// the area lights and the environment at every non-specular vertex, Russian roulette once a
+// path's throughput falls below 1 (from the third bounce on), and a hard maximum number of
+// scattering events. The sun and the area lights are added on hit only after a specular bounce
+// or at the camera; the environment, found by a BSDF-sampled path, is weighted against its
+// shadow-ray estimate by Veach's power heuristic (RenderSettings::environmentSampling), so no
+// path is counted twice. By default shadow rays pass through dielectrics
+// (RenderSettings::transmissiveShadows), and the camera ray's first Fresnel interface is split
+// into both branches (RenderSettings::fresnelSplitting).
 // Beer-Lambert absorption attenuates paths inside dielectric and translucent objects.
 //
 // Every random number is a pure function of (pixel, sample, dimension, seed) (sampling.h), so
@@ -22,6 +26,7 @@
 #pragma once
 
 #include "render/camera.h"
+#include "render/denoise.h"
 #include "render/image.h"
 #include "render/lights.h"
 #include "render/materials.h"
@@ -101,6 +106,39 @@ struct RenderScene {
   ClipPlane clip;
 };
 
+// How radiance is estimated (RenderSettings::integrator).
+//   path     the unbiased path tracer described at the top of this file.
+//   whitted  deterministic ray tracing in the manner of Whitted (1980) and POV-Ray: at dielectric
+//            surfaces both the Fresnel-reflected and the refracted ray are followed (a tree, cut
+//            at maxDepth and where a branch's weight falls below 1e-3), mirrors reflect, and
+//            diffuse surfaces take only direct light: the sun along its centre direction (hard
+//            shadows), each area light at the centres of a lightSamples x lightSamples grid, and
+//            the sky along `skyDirections` fixed cosine-distributed directions about the normal
+//            (a Hammersley set, the same at every point; each with its shadow ray). Shadow rays
+//            follow RenderSettings::transmissiveShadows. Translucent bodies are shaded as diffuse
+//            with albedo tint^2 (1 - F) (light scattered in and out once) plus the Fresnel
+//            reflection. No indirect diffuse light, no caustics. Pixels are anti-aliased with
+//            samplesPerPixel sub-pixel positions of a fixed (0,2)-sequence: the image depends on
+//            neither the seed nor the thread count, and has no noise.
+enum class Integrator { Path, Whitted };
+
+struct WhittedSettings {
+  int skyDirections = 16;  // shadow rays towards the sky per diffuse point, >= 1
+  int lightSamples = 2;    // grid points per side on each area light, >= 1
+};
+
+// Adaptive sampling (path integrator): every pixel takes minSamples paths, then more in batches
+// of minSamples until the standard error of its mean luminance falls below relativeError times
+// max(mean, 0.05) (the floor keeps dark pixels from demanding endless samples) or maxSamples is
+// reached. The error is estimated from the luminance's sample variance. samplesPerPixel is then
+// ignored. Sub-pixel positions follow a (0,2)-sequence whose every prefix of 2^k is stratified.
+struct AdaptiveSettings {
+  bool enabled = false;
+  float relativeError = 0.05f;  // > 0
+  int minSamples = 8;           // >= 2
+  int maxSamples = 256;         // >= minSamples
+};
+
 struct RenderSettings {
   int width = 640;
   int height = 360;
@@ -114,11 +152,30 @@ struct RenderSettings {
   bool transmissiveShadows = true;
   bool transparentBackground = false;  // alpha = fraction of camera rays that hit something;
                                        // the environment is then not seen directly
+  // Next-event estimation for the environment (path integrator): at every diffuse or
+  // translucent vertex one shadow ray towards a direction drawn by EnvironmentSampler (lights.h),
+  // combined with the BSDF-sampled rays that escape to the sky by Veach's power heuristic. With
+  // transmissive shadows the shadow ray passes water unbent, its radiance divided by ior^2 where
+  // it leaves the water (Snell's window: exact for a flat surface over a parallel floor), and
+  // escaping paths whose specular chain after the last diffuse vertex holds only refractions are
+  // then not counted again. false: the sky is found only by escaping paths.
+  bool environmentSampling = true;
+  // Path integrator: where a camera ray first meets water or glass from outside, follow both the
+  // Fresnel-reflected and the refracted ray (weights F, 1 - F) instead of choosing one at random;
+  // removes the noise of that choice (the sky mirrored on the water) for one more path from there.
+  bool fresnelSplitting = true;
+  Integrator integrator = Integrator::Path;
+  WhittedSettings whitted;
+  AdaptiveSettings adaptive;
+  // Path integrator: filter the frame with render/denoise.h, guided by the albedo and normal of
+  // the first non-specular vertex of each camera path (gathered while tracing).
+  DenoiseSettings denoise;
 };
 
 struct RenderStats {
   uint64_t primaryRays = 0;  // camera rays
   uint64_t totalRays = 0;    // every Embree query: camera, bounce and shadow rays
+  uint64_t samples = 0;      // paths (or, whitted, sub-pixel trees) traced over the whole image
   double seconds = 0.0;      // wall time of renderFrame, scene build included
 };
 

@@ -61,6 +61,19 @@ const BadScene kBadScenes[] = {
     {"BadEnum", [](json& s) { s["container"]["walls"] = "sticky"; }, "container.walls",
      "must be one of \"no_slip\", \"free_slip\", got \"sticky\""},
     {"VectorTooShort", [](json& s) { s["gravity"] = {0, -6}; }, "gravity", "must be an array of 3 numbers"},
+    {"UnknownIntegrator", [](json& s) { s["render"]["integrator"] = "bidirectional"; }, "render.integrator",
+     "must be one of \"path\", \"whitted\", got \"bidirectional\""},
+    {"AdaptiveErrorNotPositive", [](json& s) { s["render"]["adaptive"]["relative_error"] = 0; },
+     "render.adaptive.relative_error", "must be > 0, got 0"},
+    {"AdaptiveMaxBelowMin", [](json& s) {
+       s["render"]["adaptive"] = json::parse(R"({"enabled": true, "min_samples": 16, "max_samples": 8})");
+     }, "render.adaptive.max_samples", "must be at least min_samples (16), got 8"},
+    {"DenoiserWithoutItsBuffers", [](json& s) {
+       s["render"]["integrator"] = "whitted";
+       s["render"]["denoise"]["enabled"] = true;
+     }, "render.denoise.enabled", "gathers no albedo and normal buffers"},
+    {"WhittedNoSkyDirections", [](json& s) { s["render"]["whitted"]["sky_directions"] = 0; },
+     "render.whitted.sky_directions", "must be >= 1, got 0"},
     {"VectorElementType", [](json& s) { s["fluid_blocks"][0]["min"][1] = true; }, "fluid_blocks[0].min[1]",
      "must be a number, got true"},
     {"NonIntegerWidth", [](json& s) { s["render"]["width"] = 64.5; }, "render.width", "must be an integer"},

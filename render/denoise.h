@@ -1,0 +1,49 @@
+// A small edge-avoiding denoiser for path-traced frames, guided by feature buffers.
+//
+// Method: the edge-avoiding a-trous wavelet filter of Dammertz, Sewtz, Hanika & Lensch (2010,
+// "Edge-avoiding A-Trous wavelet transform for fast global illumination filtering"): `iterations`
+// passes of the 5x5 B3-spline kernel (1/16, 1/4, 3/8, 1/4, 1/16 per axis) with holes, the taps
+// 2^i pixels apart in pass i, each tap weighted also by how alike it is to the centre pixel in
+// colour, normal and albedo (Gaussians of the squared differences). Before filtering, the colour
+// is divided by the albedo ("demodulated": lighting is smooth where texture is not), and
+// multiplied back after, so checkerboards and texture edges stay sharp (as in SVGF, Schied et al.
+// 2017). The colour distance is relative to the two pixels' brightness, and its width halves at
+// every pass by sqrt(2) (the noise the earlier passes removed; Dammertz et al. halve it).
+//
+// Features, per pixel, averaged over its samples (the tracer fills them, tracer.cpp): the albedo
+// at the first non-specular vertex of the camera's path times the specular chain's throughput
+// before it (so water and mirrors tint it), and that vertex's shading normal (0 where the path
+// escaped to the sky or ended on a light; the albedo there is the chain's throughput).
+//
+// Limits: a heuristic, biased filter: it blurs lighting detail finer than the noise (small
+// caustics, soft shadow edges) and keeps fireflies it cannot tell from edges. Allocates one
+// scratch image; call once per frame.
+#pragma once
+
+#include "render/image.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace kurage::render {
+
+struct DenoiseSettings {
+  bool enabled = false;
+  int iterations = 5;          // passes; the widest reaches 2^(iterations+1) pixels
+  float colourSigma = 1.0f;    // relative colour difference at which a tap's weight falls to 1/e
+  float normalSigma = 0.3f;    // |n_p - n_q| at which it falls to 1/e
+  float albedoSigma = 0.1f;    // |a_p - a_q| at which it falls to 1/e
+};
+
+struct FeatureBuffers {
+  int width = 0, height = 0;
+  std::vector<Eigen::Vector3f> albedo;  // row-major, row 0 on top, as Image
+  std::vector<Eigen::Vector3f> normal;
+};
+
+// The filtered image (alpha kept). Throws std::invalid_argument when the features do not match
+// the image's size or the settings are out of range (iterations 1..10, sigmas > 0).
+Image denoise(const Image& noisy, const FeatureBuffers& features, const DenoiseSettings& settings);
+
+}  // namespace kurage::render
