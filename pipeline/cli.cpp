@@ -44,6 +44,20 @@ std::optional<std::string> ArgParser::option(std::initializer_list<const char*> 
   return value;
 }
 
+std::vector<std::string> ArgParser::options(std::initializer_list<const char*> names) {
+  std::vector<std::string> values;
+  for (size_t i = 0; i < args_.size();) {
+    if (matches(args_[i], names)) {
+      if (i + 1 >= args_.size()) fail(args_[i] + " needs a value");
+      values.push_back(args_[i + 1]);
+      args_.erase(args_.begin() + long(i), args_.begin() + long(i) + 2);
+    } else {
+      ++i;
+    }
+  }
+  return values;
+}
+
 std::optional<int> ArgParser::intOption(std::initializer_list<const char*> names, int min, int max) {
   const std::optional<std::string> text = option(names);
   if (!text) return std::nullopt;

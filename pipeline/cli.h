@@ -24,6 +24,8 @@ public:
 
   bool flag(std::initializer_list<const char*> names);
   std::optional<std::string> option(std::initializer_list<const char*> names);
+  // Every value of a repeatable option, in the order given (all are consumed).
+  std::vector<std::string> options(std::initializer_list<const char*> names);
   std::optional<int> intOption(std::initializer_list<const char*> names, int min, int max);
   std::optional<double> doubleOption(std::initializer_list<const char*> names);
   // The remaining arguments; throws UsageError for any leftover "-..." option.

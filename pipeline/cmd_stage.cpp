@@ -3,6 +3,7 @@
 #include "pipeline/interrupt.h"
 #include "pipeline/io/run_lock.h"
 #include "pipeline/scene.h"
+#include "pipeline/stages.h"
 #include "pipeline/io/video.h"
 #include "sim/simulation.h"
 
@@ -87,15 +88,15 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   record.data()["status"] = "running";
   record.save();
   try {
+    // `run` is every stage of the table the scene needs, in order; the others are one stage.
     const bool all = name == "run";
-    if (all || name == "sim") runSimStage(scene, options.stage, record);
-    if (all || name == "surface") runSurfaceStage(scene, options.stage, record);
-    if (all || name == "render") runRenderStage(scene, options.stage, record);
-    if (all && scene.output.exports.any()) runExportStage(scene, options.stage, record);
-    const char* folder = name == "sim" ? "particles" : name == "surface" ? "surfaces" : "frames";
-    const char* label = name == "sim" ? "particle caches" : name == "surface" ? "surfaces" : "frames";
-    std::printf("%s: %s\n", label, (options.stage.outDir / folder).string().c_str());
-    if (video) {
+    for (const StageSpec& stage : stageTable())
+      if (all ? stage.inRun(scene) : name == stage.name) stage.run(scene, options.stage, record);
+    const StageSpec& shown = findStage(all ? "render" : name);
+    std::printf("%s: %s\n", shown.label, (options.stage.outDir / shown.folder).string().c_str());
+    if (video && !scene.render.outputs.png) {
+      std::printf("video: none (render.outputs.png is false; the video is made from the PNG frames)\n");
+    } else if (video) {
       const auto [first, last] = frameRange(scene, options.stage);
       encodeVideoAndReport(options.stage.outDir / "frames", first, last - first + 1, scene.output.fps,
                            options.stage.outDir / (scene.name + ".mp4"));

@@ -1,4 +1,5 @@
 #include "pipeline/render_scene.h"
+#include "pipeline/sim_frame.h"
 
 #include "render/image.h"
 
@@ -52,13 +53,19 @@ render::RenderScene makeRenderScene(const Scene& scene, double time) {
   if (p.tank.enabled) {
     auto tank = std::make_shared<render::TriangleMesh>(tankMesh(scene, out.camera.position));
     if (!tank->triangles.empty()) {
-      out.meshes.push_back({tank.get(), p.tank.material});
+      out.meshes.push_back({tank.get(), p.tank.material, kObjectTank});
       out.ownedMeshes.push_back(std::move(tank));
     }
   }
   if (p.environment.type == render::EnvironmentType::Image)
     out.environment.image = std::make_shared<const render::Image>(render::readPng(p.environment.image));
   return out;
+}
+
+std::vector<std::string> objectNames(const Scene& scene) {
+  std::vector<std::string> names{"sky", "ground", "area_light", "tank"};
+  for (const std::string& kind : kindNames(scene)) names.push_back(kind);
+  return names;
 }
 
 bool hasChains(const Scene& scene) {
@@ -103,6 +110,7 @@ render::CurveSet chainTubes(const Scene& scene, const ParticleFrame& frame) {
       tube.points.push_back(p);
       tube.radii.push_back(radius.root + (radius.tip - radius.root) * float(k) / float(chain.indices.size() - 1));
     }
+    tube.objectId = objectIdOfKind(chain.kind);
     if (tube.points.size() >= 2) set.tubes.push_back(std::move(tube));
   }
   return set;

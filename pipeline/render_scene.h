@@ -17,6 +17,13 @@ namespace kurage::pipeline {
 // cannot be read.
 render::RenderScene makeRenderScene(const Scene& scene, double time);
 
+// Object ids in the render's layers (render/frame_layers.h, the EXR's object_id): 0 sky,
+// 1 ground, 2 area lights, 3 the tank, then 4 + kind for the fluid (kind 0) and each body (kind k,
+// kurage:kinds' order). objectNames(scene)[id] names each.
+inline constexpr uint32_t kObjectTank = render::kObjectFirst;
+inline uint32_t objectIdOfKind(int kind) { return render::kObjectFirst + 1 + uint32_t(kind); }
+std::vector<std::string> objectNames(const Scene& scene);
+
 // The tank walls (render.tank) seen from `eye`: the container's side walls whose inner face
 // the eye sees, from container.min.z up to the tank height.
 render::TriangleMesh tankMesh(const Scene& scene, const Eigen::Vector3f& eye);

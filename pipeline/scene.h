@@ -92,9 +92,16 @@ struct ChainRadiusParams {
   float tip = 0.08f;  // metres
 };
 
+// The files the render stage writes per frame (render.outputs).
+struct FrameOutputs {
+  bool png = true;   // OUT/frames/NNNN.png (sRGB; the video is made from these)
+  bool exr = false;  // OUT/frames/NNNN.exr (linear, with layers: pipeline/io/exr.h)
+};
+
 struct RenderParams {
   render::RenderSettings settings;  // resolution, samples, depth, seed, alpha (flat in the JSON)
   int bitDepth = 8;                 // PNG bits per channel, 8 or 16
+  FrameOutputs outputs;
   render::Camera camera;
   std::vector<render::CameraKey> cameraKeys;
   render::SunLight sun;

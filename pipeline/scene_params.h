@@ -465,6 +465,14 @@ void describe(V& v, render::DenoiseSettings& p) {
 }
 
 template <class V>
+void describe(V& v, FrameOutputs& p) {
+  v.value("png", p.png, {"", "frames/NNNN.png: sRGB, 8 or 16 bits (bit_depth); the video is encoded from these"});
+  v.value("exr", p.exr,
+          {"", "frames/NNNN.exr: OpenEXR for compositing, linear half-float beauty with alpha and the layers depth.Z, "
+               "normal, albedo and object_id (names in the header's kurage:object_names)"});
+}
+
+template <class V>
 void describe(V& v, RenderParams& p) {
   v.value("width", p.settings.width, {"px", "image width", between(1, 16384)});
   v.value("height", p.settings.height, {"px", "image height", between(1, 16384)});
@@ -489,6 +497,7 @@ void describe(V& v, RenderParams& p) {
   v.object("denoise", p.settings.denoise, {"", "a denoiser of our own, guided by albedo and normal buffers (path integrator)"});
   v.value("transparent_background", p.settings.transparentBackground,
           {"", "PNG with alpha: the environment is not seen directly, only in reflections and lighting"});
+  v.object("outputs", p.outputs, {"", "which files the render stage writes per frame (PNG, OpenEXR or both)"});
   v.value("bit_depth", p.bitDepth, {"", "PNG bits per channel, 8 or 16", between(8, 16)});
   v.object("camera", p.camera, {"", "perspective camera (thin lens when aperture > 0)"});
   v.list("camera_keys", p.cameraKeys,

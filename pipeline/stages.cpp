@@ -2,6 +2,7 @@
 
 #include "pipeline/interrupt.h"
 #include "pipeline/io/exports.h"
+#include "pipeline/io/exr.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/image_file.h"
 #include "pipeline/io/stamp.h"
@@ -392,94 +393,105 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
   return surfaces;
 }
 
-void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
-  const auto [first, last] = frameRange(scene, options);
-  const auto start = std::chrono::steady_clock::now();
-  const fs::path inFolder = options.outDir / "particles";
-  const fs::path outFolder = options.outDir / "surfaces";
-  for (int f = first; f <= last; ++f) requireFile(frameFile(inFolder, f, "vdb"), "sim");
-  fs::create_directories(outFolder);
-  Progress progress("surface", last - first + 1, options.progress);
-  size_t voxels = 0;
-  const FileStamp input{"sim", stageHash(scene, "sim"), -1};
-  const std::string surfaceHash = stageHash(scene, "surface");
-  for (int f = first; f <= last; ++f) {
-    throwIfInterrupted();
-    const std::map<std::string, render::LevelSet> surfaces =
-        surfaceFrame(scene, readParticleFrame(frameFile(inFolder, f, "vdb"), {input.stage, input.sceneHash, f}));
-    std::map<std::string, const render::LevelSet*> grids;
-    for (const auto& [name, grid] : surfaces) {
-      grids[name] = &grid;
-      voxels += grid.activeVoxelCount();
-    }
-    writeSurfaceFile(frameFile(outFolder, f, "vdb"), grids, scene.output.frameTime(f), f, surfaceHash);
-    progress.advance(f - first + 1);
+namespace {
+
+fs::path cacheFile(const fs::path& outDir, int f) { return frameFile(outDir / "particles", f, "vdb"); }
+fs::path surfaceFile(const fs::path& outDir, int f) { return frameFile(outDir / "surfaces", f, "vdb"); }
+
+void surfaceOneFrame(const Scene& scene, const fs::path& outDir, int f, FrameTally& tally) {
+  const std::map<std::string, render::LevelSet> surfaces =
+      surfaceFrame(scene, readParticleFrame(cacheFile(outDir, f), {"sim", stageHash(scene, "sim"), f}));
+  std::map<std::string, const render::LevelSet*> grids;
+  for (const auto& [name, grid] : surfaces) {
+    grids[name] = &grid;
+    tally["voxels"] += double(grid.activeVoxelCount());
   }
-  progress.finish();
-  record.setStage("surface", {{"seconds", secondsSince(start)},
-                              {"frames", {first, last}},
-                              {"mean_active_voxels", double(voxels) / (last - first + 1)}});
-  record.save();
+  writeSurfaceFile(surfaceFile(outDir, f), grids, scene.output.frameTime(f), f, stageHash(scene, "surface"));
+}
+
+void summariseSurface(const Scene&, const FrameTally& tally, int framesDone, nlohmann::json& stage) {
+  stage["mean_active_voxels"] = framesDone > 0 ? tally.at("voxels") / framesDone : 0.0;
+}
+
+}  // namespace
+
+void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
+  runFrameStage(findStage("surface"), scene, options, record);
 }
 
 render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces, double time,
-                             render::RenderStats* stats, const std::vector<render::CurveSet>& curves) {
+                             render::RenderStats* stats, const std::vector<render::CurveSet>& curves,
+                             render::FrameLayers* layers) {
   std::vector<render::TriangleMesh> meshes;
   meshes.reserve(surfaces.size());
   render::RenderScene view = makeRenderScene(scene, time);
+  const std::vector<std::string> kinds = kindNames(scene);
   for (const auto& [name, levelSet] : surfaces) {
     if (levelSet.empty()) continue;
     meshes.push_back(render::meshLevelSet(levelSet));
-    view.meshes.push_back({&meshes.back(), name == "fluid" ? scene.render.fluidMaterial : scene.render.bodyMaterial});
+    const auto kind = std::find(kinds.begin(), kinds.end(), name);
+    view.meshes.push_back({&meshes.back(), name == "fluid" ? scene.render.fluidMaterial : scene.render.bodyMaterial,
+                           objectIdOfKind(kind == kinds.end() ? 0 : int(kind - kinds.begin()))});
   }
   view.curves = curves;
-  return render::renderFrame(view, scene.render.settings, stats);
+  if (layers) layers->objectNames = objectNames(scene);
+  return render::renderFrame(view, scene.render.settings, stats, layers);
 }
 
+namespace {
+
+std::vector<fs::path> renderOutputs(const Scene& scene, const fs::path& outDir, int f) {
+  std::vector<fs::path> files;
+  if (scene.render.outputs.png) files.push_back(frameFile(outDir / "frames", f, "png"));
+  if (scene.render.outputs.exr) files.push_back(frameFile(outDir / "frames", f, "exr"));
+  return files;
+}
+
+bool renderUpToDate(const Scene& scene, const fs::path& outDir, int f) {
+  const FileStamp stamp{"render", stageHash(scene, "render"), f};
+  return (!scene.render.outputs.png || pngStampMatches(frameFile(outDir / "frames", f, "png"), stamp)) &&
+         (!scene.render.outputs.exr || exrStampMatches(frameFile(outDir / "frames", f, "exr"), stamp));
+}
+
+void renderOneFrame(const Scene& scene, const fs::path& outDir, int f, FrameTally& tally) {
+  render::RenderStats stats;
+  std::vector<render::CurveSet> curves;
+  if (hasChains(scene))
+    curves.push_back(chainTubes(scene, readParticleFrame(cacheFile(outDir, f), {"sim", stageHash(scene, "sim"), f})));
+  render::FrameLayers layers;
+  const render::Image image =
+      renderSurfaces(scene, readSurfaceFile(surfaceFile(outDir, f), {"surface", stageHash(scene, "surface"), f}),
+                     scene.output.frameTime(f), &stats, curves, scene.render.outputs.exr ? &layers : nullptr);
+  tally["primary_rays"] += double(stats.primaryRays);
+  tally["total_rays"] += double(stats.totalRays);
+  tally["trace_seconds"] += stats.seconds;
+  const FileStamp stamp{"render", stageHash(scene, "render"), f};
+  if (scene.render.outputs.png)
+    writePng(image, frameFile(outDir / "frames", f, "png"), scene.render.settings.transparentBackground,
+             scene.render.bitDepth, &stamp);
+  if (scene.render.outputs.exr)
+    writeExr(frameFile(outDir / "frames", f, "exr"), image, &layers, scene.output.frameTime(f), f, &stamp);
+}
+
+void summariseRender(const Scene& scene, const FrameTally& tally, int, nlohmann::json& stage) {
+  const auto get = [&tally](const char* key) { return tally.count(key) ? tally.at(key) : 0.0; };
+  stage["width"] = scene.render.settings.width;
+  stage["height"] = scene.render.settings.height;
+  stage["samples"] = scene.render.settings.samplesPerPixel;
+  stage["max_depth"] = scene.render.settings.maxDepth;
+  stage["outputs"] = nlohmann::json::array();
+  if (scene.render.outputs.png) stage["outputs"].push_back("png");
+  if (scene.render.outputs.exr) stage["outputs"].push_back("exr");
+  stage["primary_rays"] = uint64_t(get("primary_rays"));
+  stage["total_rays"] = uint64_t(get("total_rays"));
+  stage["trace_seconds"] = get("trace_seconds");
+  stage["total_mrays_per_s"] = get("trace_seconds") > 0.0 ? get("total_rays") / get("trace_seconds") * 1e-6 : 0.0;
+}
+
+}  // namespace
+
 void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
-  const auto [first, last] = frameRange(scene, options);
-  const auto start = std::chrono::steady_clock::now();
-  const fs::path inFolder = options.outDir / "surfaces";
-  const fs::path outFolder = options.outDir / "frames";
-  for (int f = first; f <= last; ++f) requireFile(frameFile(inFolder, f, "vdb"), "surface");
-  // Chains are not surfaced: their tubes come from the particle caches.
-  const bool chains = hasChains(scene);
-  const fs::path particleFolder = options.outDir / "particles";
-  if (chains)
-    for (int f = first; f <= last; ++f) requireFile(frameFile(particleFolder, f, "vdb"), "sim");
-  fs::create_directories(outFolder);
-  const std::string simHash = stageHash(scene, "sim");
-  const std::string surfaceHash = stageHash(scene, "surface");
-  Progress progress("render", last - first + 1, options.progress);
-  uint64_t primaryRays = 0, totalRays = 0;
-  double traceSeconds = 0.0;
-  for (int f = first; f <= last; ++f) {
-    throwIfInterrupted();
-    render::RenderStats stats;
-    std::vector<render::CurveSet> curves;
-    if (chains)
-      curves.push_back(chainTubes(scene, readParticleFrame(frameFile(particleFolder, f, "vdb"), {"sim", simHash, f})));
-    const render::Image image = renderSurfaces(scene, readSurfaceFile(frameFile(inFolder, f, "vdb"), {"surface", surfaceHash, f}),
-                                               scene.output.frameTime(f), &stats, curves);
-    primaryRays += stats.primaryRays;
-    totalRays += stats.totalRays;
-    traceSeconds += stats.seconds;
-    writePng(image, frameFile(outFolder, f, "png"), scene.render.settings.transparentBackground,
-                     scene.render.bitDepth);
-    progress.advance(f - first + 1);
-  }
-  progress.finish();
-  record.setStage("render", {{"seconds", secondsSince(start)},
-                             {"frames", {first, last}},
-                             {"width", scene.render.settings.width},
-                             {"height", scene.render.settings.height},
-                             {"samples", scene.render.settings.samplesPerPixel},
-                             {"max_depth", scene.render.settings.maxDepth},
-                             {"primary_rays", primaryRays},
-                             {"total_rays", totalRays},
-                             {"trace_seconds", traceSeconds},
-                             {"total_mrays_per_s", traceSeconds > 0.0 ? double(totalRays) / traceSeconds * 1e-6 : 0.0}});
-  record.save();
+  runFrameStage(findStage("render"), scene, options, record);
 }
 
 void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
@@ -487,6 +499,90 @@ void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& 
   const auto start = std::chrono::steady_clock::now();
   exportFrames(scene, scene.output.exports, options.outDir, first, last);
   record.setStage("export", {{"frames", last - first + 1}, {"seconds", secondsSince(start)}});
+  record.save();
+}
+
+namespace {
+
+bool always(const Scene&) { return true; }
+bool exportsWanted(const Scene& scene) { return scene.output.exports.any(); }
+
+std::vector<fs::path> simOutputs(const Scene&, const fs::path& outDir, int f) { return {cacheFile(outDir, f)}; }
+std::vector<fs::path> surfaceOutputs(const Scene&, const fs::path& outDir, int f) { return {surfaceFile(outDir, f)}; }
+std::vector<fs::path> noOutputs(const Scene&, const fs::path&, int) { return {}; }
+
+bool simUpToDate(const Scene& scene, const fs::path& outDir, int f) {
+  if (!fs::exists(cacheFile(outDir, f))) return false;
+  try {
+    readParticleFrame(cacheFile(outDir, f), {"sim", stageHash(scene, "sim"), f});
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+bool surfaceUpToDate(const Scene& scene, const fs::path& outDir, int f) {
+  if (!fs::exists(surfaceFile(outDir, f))) return false;
+  try {
+    readSurfaceFile(surfaceFile(outDir, f), {"surface", stageHash(scene, "surface"), f});
+    return true;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+bool neverUpToDate(const Scene&, const fs::path&, int) { return false; }
+
+}  // namespace
+
+const std::vector<StageSpec>& stageTable() {
+  static const std::vector<StageSpec> table{
+      {"sim", "", "particles", "particle caches", true, always, simOutputs, simUpToDate, nullptr, nullptr, runSimStage},
+      {"surface", "sim", "surfaces", "surfaces", false, always, surfaceOutputs, surfaceUpToDate, surfaceOneFrame,
+       summariseSurface, runSurfaceStage},
+      {"render", "surface", "frames", "frames", false, always, renderOutputs, renderUpToDate, renderOneFrame,
+       summariseRender, runRenderStage},
+      {"export", "surface", "exports", "exports", false, exportsWanted, noOutputs, neverUpToDate, nullptr, nullptr,
+       runExportStage}};
+  return table;
+}
+
+const StageSpec& findStage(const std::string& name) {
+  for (const StageSpec& s : stageTable())
+    if (name == s.name) return s;
+  throw std::invalid_argument("unknown stage " + name);
+}
+
+void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOptions& options, RunRecord& record) {
+  const auto [first, last] = frameRange(scene, options);
+  const auto start = std::chrono::steady_clock::now();
+  // Frames whose outputs are whole and from the same inputs and settings are kept (incremental);
+  // --force redoes them.
+  std::vector<int> todo;
+  for (int f = first; f <= last; ++f)
+    if (options.force || !stage.upToDate(scene, options.outDir, f)) todo.push_back(f);
+  // Their inputs must exist: the input stage's files (and the caches, for a scene's chains).
+  const StageSpec& input = findStage(stage.input);
+  for (int f : todo) {
+    for (const fs::path& file : input.outputs(scene, options.outDir, f)) requireFile(file, input.name);
+    if (std::string(stage.name) == "render" && hasChains(scene)) requireFile(cacheFile(options.outDir, f), "sim");
+  }
+  fs::create_directories(options.outDir / stage.folder);
+  Progress progress(stage.name, int(todo.size()), options.progress);
+  FrameTally tally;
+  int done = 0;
+  for (int f : todo) {
+    throwIfInterrupted();
+    stage.perFrame(scene, options.outDir, f, tally);
+    progress.advance(++done);
+  }
+  progress.finish();
+  nlohmann::json entry = {{"seconds", secondsSince(start)},
+                          {"frames", {first, last}},
+                          {"frames_done", done},
+                          {"frames_skipped", (last - first + 1) - done}};
+  stage.summarise(scene, tally, done, entry);
+  record.setStage(stage.name, std::move(entry));
   record.save();
 }
 

@@ -61,6 +61,43 @@ private:
 // Versions of kurage and the libraries it uses.
 nlohmann::json versionInfo();
 
+// Sums a per-frame stage keeps over its frames (rays, voxels, seconds), by name.
+using FrameTally = std::map<std::string, double>;
+
+// The stages as one table, read by the CLI (`kurage run|sim|surface|render`), the local runner
+// and the farm (pipeline/farm): what each reads, what it writes per frame, and how it runs.
+struct StageSpec {
+  const char* name;    // "sim", "surface", "render", "export"
+  const char* input;   // the stage whose files it reads ("" for the scene alone)
+  const char* folder;  // OUT/<folder> holds its per-frame files
+  const char* label;   // what those files are, for messages ("particle caches", ...)
+  // Sequential in time (each frame needs the state of the one before): one process, never split.
+  bool sequential;
+  // Part of `kurage run` for this scene (export: only with output.exports).
+  bool (*inRun)(const Scene& scene);
+  // The files it writes for frame f (empty: none per frame).
+  std::vector<std::filesystem::path> (*outputs)(const Scene& scene, const std::filesystem::path& outDir, int frame);
+  // Frame f's outputs exist whole and were made from the same inputs and settings (their stamps
+  // hold this scene's stageHash and the frame): an incremental run skips the frame.
+  bool (*upToDate)(const Scene& scene, const std::filesystem::path& outDir, int frame);
+  // Makes frame f (inputs checked by the caller); adds to the tally. Null for a stage that runs
+  // as a whole (sim: sequential; export).
+  void (*perFrame)(const Scene& scene, const std::filesystem::path& outDir, int frame, FrameTally& tally);
+  // The stage's entry in run.json from its tally over `framesDone` frames (per-frame stages).
+  void (*summarise)(const Scene& scene, const FrameTally& tally, int framesDone, nlohmann::json& stage);
+  // Runs the stage over the frames of `options` and records it.
+  void (*run)(const Scene& scene, const StageOptions& options, RunRecord& record);
+};
+
+// In pipeline order: sim, surface, render, export.
+const std::vector<StageSpec>& stageTable();
+// The entry named `name`; throws std::invalid_argument for another name.
+const StageSpec& findStage(const std::string& name);
+// Runs a per-frame stage: checks its inputs, skips frames that are upToDate (unless --force),
+// makes the rest in order (stopping at an interrupt), shows progress and records the stage with
+// frames_done and frames_skipped.
+void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOptions& options, RunRecord& record);
+
 void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& record);
@@ -72,9 +109,10 @@ std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, con
 // The level sets of one frame: "fluid" and one per body (chains excepted), named after it.
 std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame);
 // Renders the surfaces, and the tubes `curves` (chainTubes() of the frame when the scene has
-// chains), with the camera at simulated time `time` (camera keys).
+// chains), with the camera at simulated time `time` (camera keys). `layers`, when given, gets
+// the frame's compositing layers with the scene's object ids (render_scene.h: objectIdOfKind).
 render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces,
                              double time = 0.0, render::RenderStats* stats = nullptr,
-                             const std::vector<render::CurveSet>& curves = {});
+                             const std::vector<render::CurveSet>& curves = {}, render::FrameLayers* layers = nullptr);
 
 }  // namespace kurage::pipeline

@@ -4,16 +4,22 @@
 //             nothing
 //   normal    world-space unit shading normal at that hit, facing the camera; 0 where nothing
 //   albedo    the material's albedo there (white for clear dielectrics); 0 where nothing
-//   objectId  which object: 0 nothing (sky), then render::ObjectId's values
+//   objectId  which object: kObjectSky (0) where it meets nothing, kObjectGround, kObjectLight, or
+//             the objectId the caller gave the mesh, sphere set or tube (>= kObjectFirst)
+//   objectNames  what each id means, by id (filled by the caller; written into the EXR header)
 #pragma once
 
 #include <Eigen/Core>
 
 #include <cstdint>
 #include <limits>
+#include <string>
 #include <vector>
 
 namespace kurage::render {
+
+// Object ids of the layers. The tracer's objects carry their own (SceneObject::objectId, ...).
+enum ObjectId : uint32_t { kObjectSky = 0, kObjectGround = 1, kObjectLight = 2, kObjectFirst = 3 };
 
 struct FrameLayers {
   int width = 0, height = 0;
@@ -21,6 +27,7 @@ struct FrameLayers {
   std::vector<Eigen::Vector3f> normal;
   std::vector<Eigen::Vector3f> albedo;
   std::vector<uint32_t> objectId;
+  std::vector<std::string> objectNames;  // by id; may be empty
 
   FrameLayers() = default;
   FrameLayers(int w, int h)

@@ -279,6 +279,7 @@ struct Hit {
   const Material* material = nullptr;
   Vector3f albedo;
   int light = -1;
+  uint32_t objectId = kObjectSky;  // FrameLayers::objectId
 };
 
 bool clipped(const Frame& f, const Vector3f& p) {
@@ -379,6 +380,7 @@ Hit embreeHit(const Frame& f, const Vector3f& origin, const Vector3f& direction,
     hit.ns = hit.ng;
     hit.material = &g.curves->material;
     hit.albedo = checkerAlbedo(g.curves->material, g.curves->material.albedo, hit.point);
+    hit.objectId = tube.objectId != 0 ? tube.objectId : g.curves->objectId;
   } else if (g.mesh) {
     const TriangleMesh& mesh = *g.mesh->mesh;
     const Eigen::Vector3i& tri = mesh.triangles[primID];
@@ -392,12 +394,14 @@ Hit embreeHit(const Frame& f, const Vector3f& origin, const Vector3f& direction,
     }
     hit.material = &g.mesh->material;
     hit.albedo = checkerAlbedo(g.mesh->material, g.mesh->material.albedo, hit.point);
+    hit.objectId = g.mesh->objectId;
   } else {
     const SphereSet& set = *g.spheres;
     hit.ng = (hit.point - set.centres[primID]).normalized();
     hit.ns = hit.ng;
     hit.material = &set.material;
     hit.albedo = set.colours.empty() ? set.material.albedo : set.colours[primID];
+    hit.objectId = set.objectId;
   }
   if (!hit.ng.allFinite()) hit.ng = hit.ns = -direction;
   return hit;
@@ -422,6 +426,7 @@ Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction,
         hit.ng = hit.ns = f.groundNormal;
         hit.material = nullptr;
         hit.albedo = groundAlbedo(f, hit.point);
+        hit.objectId = kObjectGround;
       }
     }
   }
@@ -441,6 +446,7 @@ Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction,
     hit.point = origin + tl * direction;
     hit.ng = hit.ns = n.normalized();
     hit.light = static_cast<int>(i);
+    hit.objectId = kObjectLight;
   }
   return hit;
 }
@@ -804,9 +810,35 @@ Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& di
   return attenuation.cwiseProduct(radiance);
 }
 
+// The compositing layers (frame_layers.h): one ray through each pixel centre and the lens centre.
+FrameLayers firstHitLayers(const Frame& f, const CameraRays& camera, int width, int height) {
+  FrameLayers layers(width, height);
+  tbb::parallel_for(tbb::blocked_range<int>(0, height), [&](const tbb::blocked_range<int>& rows) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    Counters counters;
+    for (int y = rows.begin(); y != rows.end(); ++y)
+      for (int x = 0; x < width; ++x) {
+        Vector3f origin, direction;
+        camera.generate(float(x) + 0.5f, float(y) + 0.5f, 0.5f, 0.5f, origin, direction);
+        const Hit hit = intersect(f, origin, direction, context, counters);
+        if (hit.kind == Hit::None) continue;
+        const size_t i = layers.index(x, y);
+        layers.depth[i] = hit.t * direction.dot(camera.forward());
+        layers.normal[i] = hit.ns.dot(direction) > 0.0f ? Vector3f(-hit.ns) : hit.ns;
+        if (hit.kind == Hit::Light) layers.albedo[i] = Vector3f::Zero();
+        else if (hit.material && hit.material->type == MaterialType::Dielectric) layers.albedo[i] = Vector3f::Ones();
+        else layers.albedo[i] = hit.albedo;
+        layers.objectId[i] = hit.objectId;
+      }
+  });
+  return layers;
+}
+
 }  // namespace
 
-Image renderFrame(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats) {
+Image renderFrame(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats,
+                  FrameLayers* layers) {
   const auto start = std::chrono::steady_clock::now();
   if (settings.width <= 0 || settings.height <= 0 || settings.samplesPerPixel <= 0)
     throw std::invalid_argument("renderFrame: width, height and samplesPerPixel must be positive");
@@ -1007,6 +1039,12 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
   });
   throwIfError(device.get(), errors, "rendering");
   if (denoising) image = denoise(image, features, settings.denoise);
+  if (layers) {
+    std::vector<std::string> names = std::move(layers->objectNames);
+    *layers = firstHitLayers(frame, camera, settings.width, settings.height);
+    layers->objectNames = std::move(names);
+    throwIfError(device.get(), errors, "layers");
+  }
   if (stats) {
     stats->primaryRays = primaryRays;
     stats->totalRays = totalRays;

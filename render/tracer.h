@@ -27,6 +27,7 @@
 
 #include "render/camera.h"
 #include "render/denoise.h"
+#include "render/frame_layers.h"
 #include "render/image.h"
 #include "render/lights.h"
 #include "render/materials.h"
@@ -59,6 +60,7 @@ struct ClipPlane {
 struct SceneObject {
   const TriangleMesh* mesh = nullptr;  // not owned; must outlive renderFrame()
   Material material;
+  uint32_t objectId = kObjectFirst;  // FrameLayers::objectId where it is seen first
 };
 
 // Spheres of one radius; each may have its own colour (replacing material.albedo).
@@ -67,6 +69,7 @@ struct SphereSet {
   std::vector<Eigen::Vector3f> colours;  // empty, or one per centre
   float radius = 0.5f;                   // metres
   Material material;
+  uint32_t objectId = kObjectFirst;
 };
 
 // Closed tubes of varying radius along uniform cubic B-splines, traced directly as Embree's
@@ -86,11 +89,13 @@ struct SphereSet {
 struct Tube {
   std::vector<Eigen::Vector3f> points;  // metres
   std::vector<float> radii;             // metres, one per point
+  uint32_t objectId = 0;                // FrameLayers::objectId; 0: the set's
 };
 
 struct CurveSet {
   std::vector<Tube> tubes;
   Material material;
+  uint32_t objectId = kObjectFirst;
 };
 
 struct RenderScene {
@@ -180,8 +185,11 @@ struct RenderStats {
 };
 
 // Renders one frame (linear radiance, alpha). Throws std::invalid_argument for bad settings or
-// scene data and std::runtime_error if Embree fails.
-Image renderFrame(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats = nullptr);
+// scene data and std::runtime_error if Embree fails. `layers`, when given, receives what the
+// camera ray through each pixel centre (lens centre) meets first (frame_layers.h); its
+// objectNames are left as they were.
+Image renderFrame(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats = nullptr,
+                  FrameLayers* layers = nullptr);
 
 // Version string of the Embree library in use (for run.json).
 std::string embreeVersion();

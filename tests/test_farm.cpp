@@ -55,8 +55,9 @@ void expectSameFrames(const fs::path& a, const fs::path& b, int first, int last)
     // OpenVDB writes a random UUID into each header: compare the caches' contents.
     const pipeline::ParticleFrame x = pipeline::readParticleFrame(pipeline::frameFile(a / "particles", f, "vdb"));
     const pipeline::ParticleFrame y = pipeline::readParticleFrame(pipeline::frameFile(b / "particles", f, "vdb"));
-    EXPECT_TRUE(x.px == y.px && x.py == y.py && x.pz == y.pz && x.vx == y.vx && x.id == y.id && x.kind == y.kind &&
-                x.time == y.time)
+    EXPECT_TRUE(x.px == y.px && x.py == y.py && x.pz == y.pz && x.vx == y.vx && x.vy == y.vy && x.vz == y.vz &&
+                x.id == y.id && x.kind == y.kind && x.restDensityFactor == y.restDensityFactor &&
+                x.kindNames == y.kindNames && x.sceneHash == y.sceneHash && x.time == y.time && x.frame == y.frame)
         << "cache " << f;
   }
 }
@@ -93,10 +94,11 @@ TEST_F(Farm, ThreeTasksGiveTheFramesOfALocalRun) {
 
 TEST_F(Farm, AFailedTaskCancelsTheMergeAndAResubmitRunsOnlyWhatIsMissing) {
   const fs::path out = dir_.path() / "farmed";
-  // The caches exist (so the farm submits no simulation), but frame 3's is damaged.
+  // The caches exist (so the farm submits no simulation), but frame 3 cannot be written (a folder
+  // stands where its PNG goes): the task of frames 2-3 fails after making frame 2.
   ASSERT_EQ(test::runKurage("sim " + kScene.string() + " -o " + out.string(), dir_.path() / "sim.txt"), 0);
-  const fs::path damaged = pipeline::frameFile(out / "particles", 3, "vdb");
-  pipeline::writeTextAtomic(damaged, "not an OpenVDB file");
+  const fs::path blocked = pipeline::frameFile(out / "frames", 3, "png");
+  fs::create_directories(blocked / "in_the_way");
   ASSERT_EQ(test::runKurage("farm " + kScene.string() + " -o " + out.string() + " --frames-per-task 2 --submit",
                             dir_.path() / "farm1.txt"),
             0)
@@ -107,12 +109,14 @@ TEST_F(Farm, AFailedTaskCancelsTheMergeAndAResubmitRunsOnlyWhatIsMissing) {
   const std::string status = run((test::binaryDir() / "kurage").string() + " farm status " + out.string());
   EXPECT_NE(status.find("FAILED"), std::string::npos) << status;
   EXPECT_NE(status.find("merge  job " + jobs["merge"].get<std::string>() + ": 1 CANCELLED"), std::string::npos) << status;
-  EXPECT_NE(status.find("missing frames: 2-3 (tasks 1)"), std::string::npos) << status;
+  EXPECT_NE(status.find("missing frames: 3 (tasks 1)"), std::string::npos) << status;
   EXPECT_FALSE(fs::exists(out / "run.json") && nlohmann::json::parse(readText(out / "run.json")).contains("farm"));
 
-  // Mended, and submitted again: only chunk 1 runs, then the merge.
-  fs::copy_file(pipeline::frameFile(local_ / "particles", 3, "vdb"), damaged, fs::copy_options::overwrite_existing);
-  const auto before = fs::last_write_time(pipeline::frameFile(out / "frames", 0, "png"));
+  // Mended, and submitted again: only chunk 1 runs, and in it only frame 3 (frame 2 is whole and
+  // stamped with this scene's render hash, so the rerun task keeps it), then the merge.
+  fs::remove_all(blocked);
+  const auto before0 = fs::last_write_time(pipeline::frameFile(out / "frames", 0, "png"));
+  const auto before2 = fs::last_write_time(pipeline::frameFile(out / "frames", 2, "png"));
   ASSERT_EQ(test::runKurage("farm " + kScene.string() + " -o " + out.string() + " --frames-per-task 2 --submit",
                             dir_.path() / "farm2.txt"),
             0)
@@ -121,10 +125,15 @@ TEST_F(Farm, AFailedTaskCancelsTheMergeAndAResubmitRunsOnlyWhatIsMissing) {
   EXPECT_FALSE(jobs.contains("sim"));
   EXPECT_EQ(jobs["frame_tasks"], nlohmann::json::array({1}));
   waitForFarm(out);
-  EXPECT_EQ(fs::last_write_time(pipeline::frameFile(out / "frames", 0, "png")), before) << "frame 0 was redone";
+  EXPECT_EQ(fs::last_write_time(pipeline::frameFile(out / "frames", 0, "png")), before0) << "frame 0 was redone";
+  EXPECT_EQ(fs::last_write_time(pipeline::frameFile(out / "frames", 2, "png")), before2) << "frame 2 was redone";
   expectSameFrames(local_, out, 0, 4);
   EXPECT_NE(run((test::binaryDir() / "kurage").string() + " farm status " + out.string()).find("missing frames: none"),
             std::string::npos);
+  // A damaged cache is not counted as done (status reads each file's checksum and stamp).
+  pipeline::writeTextAtomic(pipeline::frameFile(out / "particles", 4, "vdb"), "not an OpenVDB file");
+  const std::string after = run((test::binaryDir() / "kurage").string() + " farm status " + out.string());
+  EXPECT_NE(after.find("caches 4 of 5"), std::string::npos) << after;
 }
 
 TEST(FarmCommand, BadInputIsRefused) {
@@ -142,6 +151,62 @@ TEST(FarmCommand, BadInputIsRefused) {
   EXPECT_NE(readText(dir.path() / "b.txt").find("sbatch"), std::string::npos) << readText(dir.path() / "b.txt");
   EXPECT_TRUE(fs::exists(out / "farm/sim.sbatch"));
   EXPECT_EQ(test::runKurage("farm status " + (dir.path() / "none").string(), dir.path() / "c.txt"), 2);
+}
+
+TEST(FarmCommand, FlagsShapeTheScripts) {
+  // --frames-per-task and --max-tasks cut the frames into the array's chunks; --partition,
+  // --time-limit and --sbatch-arg become #SBATCH lines of every script; the frame tasks run the
+  // stage table's per-frame stages (surface, render) on their chunk.
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("farm " + kScene.string() + " -o " + out.string() +
+                                " --frames-per-task 2 --partition gpu --time-limit 00:10:00 --sbatch-arg --mem=1G"
+                                " --sbatch-arg '--account=lab x'",
+                            dir.path() / "a.txt"), 0) << readText(dir.path() / "a.txt");
+  const nlohmann::json plan = nlohmann::json::parse(readText(out / "farm/plan.json"));
+  EXPECT_EQ(plan["chunks"], nlohmann::json::parse("[[0,1],[2,3],[4,4]]"));
+  for (const char* script : {"sim.sbatch", "frames.sbatch", "merge.sbatch"}) {
+    const std::string text = readText(out / "farm" / script);
+    for (const char* line : {"#SBATCH --partition=gpu\n", "#SBATCH --time=00:10:00\n", "#SBATCH --mem=1G\n",
+                             "#SBATCH --account=lab x\n"})
+      EXPECT_NE(text.find(line), std::string::npos) << script << " lacks " << line;
+  }
+  const std::string frames = readText(out / "farm/frames.sbatch");
+  EXPECT_NE(frames.find("chunks=(0-1 2-3 4-4)"), std::string::npos) << frames;
+  EXPECT_LT(frames.find(" surface "), frames.find(" render ")) << frames;
+  EXPECT_NE(frames.find("--task \"render-$range\""), std::string::npos) << frames;
+  ASSERT_EQ(test::runKurage("farm " + kScene.string() + " -o " + out.string() + " --frames-per-task 1 --max-tasks 2", dir.path() / "b.txt"), 0);
+  EXPECT_EQ(nlohmann::json::parse(readText(out / "farm/plan.json"))["chunks"], nlohmann::json::parse("[[0,2],[3,4]]"));
+}
+
+TEST(FarmCommand, AFailingSbatchIsPassedOnAndJobsJsonKeepsWhatWasQueued) {
+  // A fake sbatch that queues the first script and refuses the second, as Slurm does for an
+  // unknown partition: kurage exits 1 with sbatch's own message, and jobs.json names the job
+  // that was queued (so it can be cancelled).
+  test::TempDir dir;
+  const fs::path bin = dir.path() / "bin";
+  fs::create_directories(bin);
+  pipeline::writeTextAtomic(bin / "sbatch",
+                            "#!/bin/sh\n"
+                            "if [ -e \"$0.called\" ]; then\n"
+                            "  echo 'sbatch: error: invalid partition specified: nope' >&2; exit 1\n"
+                            "fi\n"
+                            "touch \"$0.called\"; echo 4242\n");
+  fs::permissions(bin / "sbatch", fs::perms::owner_all);
+  const fs::path out = dir.path() / "out";
+  const std::string command = "PATH=" + bin.string() + ":/usr/bin:/bin " + (test::binaryDir() / "kurage").string() +
+                              " farm " + kScene.string() + " -o " + out.string() + " --partition nope --submit > " +
+                              (dir.path() / "log.txt").string() + " 2>&1";
+  const int status = std::system(command.c_str());
+  const std::string log = readText(dir.path() / "log.txt");
+  EXPECT_EQ(WEXITSTATUS(status), 1) << log;
+  EXPECT_NE(log.find("invalid partition specified: nope"), std::string::npos) << log;
+  EXPECT_NE(log.find(out.string() + "/farm"), std::string::npos) << "the scripts' folder is not named: " << log;
+  ASSERT_TRUE(fs::exists(out / "farm/jobs.json"));
+  const nlohmann::json jobs = nlohmann::json::parse(readText(out / "farm/jobs.json"));
+  EXPECT_EQ(jobs["sim"], "4242");
+  EXPECT_FALSE(jobs.contains("frames"));
+  EXPECT_FALSE(jobs.contains("merge"));
 }
 
 }  // namespace

@@ -72,6 +72,8 @@ const BadScene kBadScenes[] = {
        s["render"]["integrator"] = "whitted";
        s["render"]["denoise"]["enabled"] = true;
      }, "render.denoise.enabled", "gathers no albedo and normal buffers"},
+    {"NoFrameOutput", [](json& s) { s["render"]["outputs"] = json::parse(R"({"png": false, "exr": false})"); },
+     "render.outputs", "writes no frame"},
     {"WhittedNoSkyDirections", [](json& s) { s["render"]["whitted"]["sky_directions"] = 0; },
      "render.whitted.sky_directions", "must be >= 1, got 0"},
     {"VectorElementType", [](json& s) { s["fluid_blocks"][0]["min"][1] = true; }, "fluid_blocks[0].min[1]",

@@ -2,6 +2,7 @@
 // (pipeline/farm/farm.h).
 #include "pipeline/cli.h"
 #include "pipeline/farm/farm.h"
+#include "pipeline/stages.h"
 #include "pipeline/io/files.h"
 #include "pipeline/scene.h"
 #include "pipeline/io/video.h"
@@ -95,14 +96,20 @@ FarmPlan loadPlan(const fs::path& out) {
   return planFromJson(nlohmann::json::parse(readText(file)), file.string());
 }
 
+// The scene a plan was made from, at the plan's quality (for the stage table's checks).
+Scene planScene(const FarmPlan& plan) {
+  Scene scene = loadScene(plan.sceneFile.string());
+  applyQuality(scene, plan.quality == "final" ? Quality::Final : Quality::Preview);
+  return scene;
+}
+
 int farmPlanAndSubmit(ArgParser& args) {
   const Quality quality = parseQuality(args);
   const std::optional<int> perTask = args.intOption({"--frames-per-task"}, 1, 1000000);
   const std::optional<int> maxTasks = args.intOption({"--max-tasks"}, 1, 1000000);
   const std::optional<std::string> partition = args.option({"--partition"});
   const std::optional<std::string> timeLimit = args.option({"--time-limit"});
-  std::vector<std::string> sbatchArgs;
-  while (auto a = args.option({"--sbatch-arg"})) sbatchArgs.push_back(*a);
+  const std::vector<std::string> sbatchArgs = args.options({"--sbatch-arg"});
   const bool submit = args.flag({"--submit"});
   const StageCommandOptions options = parseStageOptions(args, true);
   const std::vector<std::string> positional = args.positionals();
@@ -143,13 +150,17 @@ int farmPlanAndSubmit(ArgParser& args) {
               farm.string().c_str(), plan.chunks.size(), plan.chunks.front().last - plan.chunks.front().first + 1);
   if (!submit) return 0;
 
-  const FarmProgress progress = farmProgress(plan);
+  const FarmProgress progress = farmProgress(plan, scene);
   const std::string dependency = " --kill-on-invalid-dep=yes --dependency=afterok:";
+  // jobs.json is rewritten after each submission: if a later sbatch fails, it still names the
+  // jobs already queued (and no stale file from an earlier submission is left).
   nlohmann::json jobs = nlohmann::json::object();
+  fs::remove(farm / "jobs.json");
   std::string after;
   if (progress.simNeeded()) {
     const std::string id = sbatch("", farm / "sim.sbatch");
     jobs["sim"] = id;
+    writeTextAtomic(farm / "jobs.json", jobs.dump(2) + "\n");
     after = id;
     std::printf("sim: job %s\n", id.c_str());
   }
@@ -162,6 +173,7 @@ int farmPlanAndSubmit(ArgParser& args) {
     const std::string id = sbatch("--array=" + array + (after.empty() ? "" : dependency + after), farm / "frames.sbatch");
     jobs["frames"] = id;
     jobs["frame_tasks"] = progress.chunksToRun;
+    writeTextAtomic(farm / "jobs.json", jobs.dump(2) + "\n");
     after = id;
     std::printf("frames: job %s (tasks %s)\n", id.c_str(), array.c_str());
   }
@@ -223,7 +235,7 @@ int farmStatus(ArgParser& args) {
   } else {
     std::printf("not submitted (no %s)\n", jobsFile.string().c_str());
   }
-  const FarmProgress p = farmProgress(plan);
+  const FarmProgress p = farmProgress(plan, planScene(plan));
   const int frames = plan.last - plan.first + 1;
   std::printf("on disk: caches %d of %d, surfaces %d of %d, frames %d of %d\n",
               frames - int(p.missingCaches.size()), frames, frames - int(p.missingSurfaces.size()), frames,
@@ -245,7 +257,7 @@ int farmMerge(ArgParser& args) {
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one OUT folder");
   const FarmPlan plan = loadPlan(positional[0]);
-  const FarmProgress p = farmProgress(plan);
+  const FarmProgress p = farmProgress(plan, planScene(plan));
   if (!p.missingFrames.empty())
     throw std::runtime_error(plan.outDir.string() + ": frames " + frameList(p.missingFrames) +
                              " are missing; `kurage farm status` says which tasks failed");
@@ -255,7 +267,9 @@ int farmMerge(ArgParser& args) {
   nlohmann::json run = fs::exists(simRecord) ? nlohmann::json::parse(readText(simRecord))
                        : fs::exists(plan.outDir / "run.json") ? nlohmann::json::parse(readText(plan.outDir / "run.json"))
                                                               : nlohmann::json::object();
-  for (const char* stage : {"surface", "render"}) {
+  for (const StageSpec& spec : stageTable()) {
+    if (spec.sequential || !spec.perFrame) continue;  // the per-frame stages the frame tasks ran
+    const char* stage = spec.name;
     double seconds = 0.0;
     nlohmann::json tasks = nlohmann::json::array();
     for (const auto& entry : fs::directory_iterator(records)) {

@@ -2,6 +2,7 @@
 
 #include "pipeline/io/files.h"
 #include "pipeline/param_visitor.h"
+#include "pipeline/stages.h"
 
 #include <algorithm>
 #include <sstream>
@@ -71,8 +72,13 @@ std::string framesScript(const FarmPlan& plan) {
   }
   s += ")\nrange=${chunks[$SLURM_ARRAY_TASK_ID]}\n";
   const std::string kurage = shellWord(plan.kurage.string());
-  s += kurage + " surface" + common(plan) + " --frames \"$range\" --task \"surface-$range\"\n";
-  s += kurage + " render" + common(plan) + " --frames \"$range\" --no-video --task \"render-$range\"\n";
+  // Every per-frame stage of the table, in order (surface, render); export is the merge's.
+  for (const StageSpec& stage : stageTable()) {
+    if (stage.sequential || !stage.perFrame) continue;
+    const std::string name = stage.name;
+    s += kurage + " " + name + common(plan) + " --frames \"$range\"" + (name == "render" ? " --no-video" : "") +
+         " --task \"" + name + "-$range\"\n";
+  }
   return s;
 }
 
@@ -114,12 +120,17 @@ FarmPlan planFromJson(const nlohmann::json& j, const std::string& file) {
   }
 }
 
-FarmProgress farmProgress(const FarmPlan& plan) {
+FarmProgress farmProgress(const FarmPlan& plan, const Scene& scene) {
   FarmProgress p;
+  // A frame is done for a stage when the stage table says its outputs are whole and from this
+  // scene's inputs and settings (the same test the stages use to skip it).
+  const StageSpec& sim = findStage("sim");
+  const StageSpec& surface = findStage("surface");
+  const StageSpec& render = findStage("render");
   for (int f = plan.first; f <= plan.last; ++f) {
-    if (!fs::exists(frameFile(plan.outDir / "particles", f, "vdb"))) p.missingCaches.push_back(f);
-    if (!fs::exists(frameFile(plan.outDir / "surfaces", f, "vdb"))) p.missingSurfaces.push_back(f);
-    if (!fs::exists(frameFile(plan.outDir / "frames", f, "png"))) p.missingFrames.push_back(f);
+    if (!sim.upToDate(scene, plan.outDir, f)) p.missingCaches.push_back(f);
+    if (!surface.upToDate(scene, plan.outDir, f)) p.missingSurfaces.push_back(f);
+    if (!render.upToDate(scene, plan.outDir, f)) p.missingFrames.push_back(f);
   }
   for (size_t i = 0; i < plan.chunks.size(); ++i)
     for (int f : p.missingFrames)

@@ -14,6 +14,8 @@
 // same absolute path, as must the scene file and the kurage binary.
 #pragma once
 
+#include "pipeline/scene.h"
+
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
@@ -59,7 +61,9 @@ struct FarmProgress {
   std::vector<int> chunksToRun;
   bool simNeeded() const { return !missingCaches.empty(); }
 };
-FarmProgress farmProgress(const FarmPlan& plan);
+// What is done on disk, by the stage table's upToDate (pipeline/stages.h) for `scene`, the scene
+// of the plan at its quality.
+FarmProgress farmProgress(const FarmPlan& plan, const Scene& scene);
 
 // "3-5, 9" style list of frame numbers.
 std::string frameList(const std::vector<int>& frames);

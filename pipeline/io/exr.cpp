@@ -10,6 +10,8 @@
 #include <OpenEXR/ImfInputFile.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfStringVectorAttribute.h>
 
 #include <stdexcept>
 #include <vector>
@@ -34,7 +36,7 @@ void slice(Imf::FrameBuffer& fb, const char* name, Imf::PixelType type, std::vec
 }  // namespace
 
 void writeExr(const fs::path& path, const render::Image& beauty, const render::FrameLayers* layers, double time,
-              int frame) {
+              int frame, const FileStamp* stamp) {
   const int w = beauty.width(), h = beauty.height();
   if (layers && (layers->width != w || layers->height != h))
     throw std::invalid_argument(path.string() + ": layers of another size than the frame");
@@ -54,6 +56,9 @@ void writeExr(const fs::path& path, const render::Image& beauty, const render::F
   header.compression() = Imf::ZIP_COMPRESSION;
   header.insert("kurage:time", Imf::DoubleAttribute(time));
   header.insert("kurage:frame", Imf::IntAttribute(frame));
+  if (stamp)
+    header.insert("kurage:stamp", Imf::StringAttribute(stamp->stage + " " + stamp->sceneHash + " " +
+                                                       std::to_string(stamp->frame)));
   Imf::FrameBuffer fb;
   for (const char* c : {"R", "G", "B", "A"}) header.channels().insert(c, Imf::Channel(Imf::HALF));
   slice(fb, "R", Imf::HALF, p.r, w);
@@ -76,6 +81,8 @@ void writeExr(const fs::path& path, const render::Image& beauty, const render::F
     header.channels().insert("object_id", Imf::Channel(Imf::UINT));
     for (const char* c : {"normal.X", "normal.Y", "normal.Z", "albedo.R", "albedo.G", "albedo.B"})
       header.channels().insert(c, Imf::Channel(Imf::HALF));
+    if (!layers->objectNames.empty())
+      header.insert("kurage:object_names", Imf::StringVectorAttribute(layers->objectNames));
     slice(fb, "depth.Z", Imf::FLOAT, p.depth, w);
     slice(fb, "object_id", Imf::UINT, p.id, w);
     slice(fb, "normal.X", Imf::HALF, p.nx, w);
@@ -107,6 +114,7 @@ ExrFrame readExr(const fs::path& path) {
     ExrFrame out;
     if (const auto* t = file.header().findTypedAttribute<Imf::DoubleAttribute>("kurage:time")) out.time = t->value();
     if (const auto* f = file.header().findTypedAttribute<Imf::IntAttribute>("kurage:frame")) out.frame = f->value();
+    if (const auto* st = file.header().findTypedAttribute<Imf::StringAttribute>("kurage:stamp")) out.stamp = st->value();
     out.hasLayers = file.header().channels().findChannel("depth.Z") != nullptr;
     std::vector<float> r(n), g(n), b(n), a(n, 1.0f), depth(n), nx(n), ny(n), nz(n), ar(n), ag(n), ab(n);
     std::vector<uint32_t> id(n);
@@ -137,6 +145,8 @@ ExrFrame readExr(const fs::path& path) {
       out.layers = render::FrameLayers(w, h);
       out.layers.depth = depth;
       out.layers.objectId = id;
+      if (const auto* names = file.header().findTypedAttribute<Imf::StringVectorAttribute>("kurage:object_names"))
+        out.layers.objectNames = names->value();
       for (size_t i = 0; i < n; ++i) {
         out.layers.normal[i] = Eigen::Vector3f(nx[i], ny[i], nz[i]);
         out.layers.albedo[i] = Eigen::Vector3f(ar[i], ag[i], ab[i]);
@@ -145,6 +155,15 @@ ExrFrame readExr(const fs::path& path) {
     return out;
   } catch (const std::exception& e) {
     throw std::runtime_error(path.string() + ": cannot read OpenEXR: " + e.what());
+  }
+}
+
+bool exrStampMatches(const fs::path& path, const FileStamp& expected) {
+  if (!fs::exists(path)) return false;
+  try {
+    return readExr(path).stamp == expected.stage + " " + expected.sceneHash + " " + std::to_string(expected.frame);
+  } catch (const std::exception&) {
+    return false;  // damaged or not an EXR: redo it
   }
 }
 
