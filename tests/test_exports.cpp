@@ -2,11 +2,14 @@
 // our own here (PLY, OBJ, VTK XML), and by VTK's own XML reader (python3-vtk9) — and the
 // `kurage export` command on a real run.
 #include "pipeline/io/exports.h"
+#include "pipeline/io/files.h"
 #include "pipeline/particle_cache.h"
 
 #include "test_util.h"
 
+#include <Eigen/Core>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstring>
 #include <fstream>
@@ -211,6 +214,27 @@ TEST(Exports, UnknownFormatsAreRefusedNamingTheValidOnes) {
   }
 }
 
+TEST(Exports, SceneOutputExportsAreWrittenByRun) {
+  // output.exports in the scene: `kurage run` writes them after the surfaces, and records the stage.
+  TempDir dir;
+  nlohmann::json scene = nlohmann::json::parse(slurp(test::sourceDir() / "tests/scenes/tiny_dam_break.json"));
+  scene.erase("$schema");
+  scene["output"]["exports"] = {{"mesh_ply", true}, {"particles_vtp", true}};
+  writeTextAtomic(dir.path() / "scene.json", scene.dump());
+  const fs::path out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("run " + (dir.path() / "scene.json").string() + " -o " + out.string() +
+                                " --frames 0-1 --no-video",
+                            dir.path() / "log.txt"), 0) << slurp(dir.path() / "log.txt");
+  for (int f = 0; f <= 1; ++f) {
+    EXPECT_TRUE(fs::exists(frameFile(out / "exports/fluid", f, "ply"))) << f;
+    EXPECT_TRUE(fs::exists(frameFile(out / "exports/particles", f, "vtp"))) << f;
+    EXPECT_FALSE(fs::exists(frameFile(out / "exports/fluid", f, "obj"))) << "not asked for";
+  }
+  EXPECT_NE(slurp(out / "exports/particles.pvd").find("particles/0001.vtp"), std::string::npos);
+  const nlohmann::json run = nlohmann::json::parse(slurp(out / "run.json"));
+  EXPECT_EQ(run["stages"]["export"]["frames"], 2);
+}
+
 // A run of the tiny jellyfish (two frames), then `kurage export OUT --format all`: every file read
 // back and checked against the caches; VTK's own reader opens the .vtp and .pvd files.
 class ExportRun : public ::testing::Test {
@@ -239,10 +263,26 @@ TEST_F(ExportRun, WritesEveryFormatMatchingTheCaches) {
   ASSERT_EQ(arrays.at("Points").size(), 12 * frame.size());
   for (size_t i = 0; i < frame.size(); ++i) EXPECT_EQ(at<float>(arrays.at("Points"), 12 * i + 4), frame.py[i]);
   // Surfaces: one mesh per grid (fluid, bell) in both formats, inside the container.
+  // The container of tests/scenes/tiny_jellyfish.json is 0..8 x 0..6 x 0..9 m; surfaces are clipped
+  // to it (a quarter voxel of margin), so every vertex lies within half a voxel (0.125 m) of it.
   for (const char* grid : {"fluid", "bell"}) {
     const Ply mesh = splitPly(slurp(out() / "exports" / grid / "0001.ply"));
     EXPECT_GT(mesh.body.size(), 1000u) << grid;
     EXPECT_TRUE(fs::exists(out() / "exports" / grid / "0001.obj")) << grid;
+    size_t vertices = 0;
+    for (const std::string& line : mesh.header)
+      if (line.rfind("element vertex ", 0) == 0) vertices = std::stoul(line.substr(15));
+    ASSERT_GT(vertices, 0u) << grid;
+    ASSERT_GE(mesh.body.size(), vertices * 24) << grid;  // x y z nx ny nz, float
+    const Eigen::Vector3f lo(0, 0, 0), hi(8, 6, 9);
+    for (size_t v = 0; v < vertices; ++v) {
+      float xyz[6];
+      std::memcpy(xyz, mesh.body.data() + 24 * v, sizeof xyz);
+      const Eigen::Vector3f p(xyz[0], xyz[1], xyz[2]), n(xyz[3], xyz[4], xyz[5]);
+      ASSERT_TRUE((p.array() >= lo.array() - 0.125f).all() && (p.array() <= hi.array() + 0.125f).all())
+          << grid << " vertex " << v << " at " << p.transpose();
+      ASSERT_NEAR(n.norm(), 1.0f, 1e-3f) << grid << " vertex " << v;
+    }
   }
   // Chains: the tiny jellyfish's two arms, each a polyline through all its particles in id order.
   std::map<int, int> armParticles;
@@ -276,6 +316,17 @@ TEST_F(ExportRun, VtkOwnReaderOpensTheParticles) {
   ASSERT_EQ(std::system(command.c_str()), 0) << slurp(log);
   EXPECT_EQ(slurp(log), std::to_string(frame.size()) + " " + std::to_string(frame.size()) +
                             " id,kind,rest_density_factor,speed,velocity\n");
+  // The chains: VTK reads two polylines through the arms' particles.
+  std::ofstream(dir_->path() / "lines.py") << "import sys, vtk\n"
+                                             "r = vtk.vtkXMLPolyDataReader(); r.SetFileName(sys.argv[1]); r.Update()\n"
+                                             "p = r.GetOutput()\n"
+                                             "print(p.GetNumberOfLines(), p.GetNumberOfPoints())\n";
+  size_t arms = 0;
+  for (size_t i = 0; i < frame.size(); ++i) arms += frame.kind[i] >= 2;
+  const std::string lines = "/usr/bin/python3 " + (dir_->path() / "lines.py").string() + " " +
+                            (out() / "exports/chains/0001.vtp").string() + " > " + log.string() + " 2>&1";
+  ASSERT_EQ(std::system(lines.c_str()), 0) << slurp(log);
+  EXPECT_EQ(slurp(log), "2 " + std::to_string(arms) + "\n");
 }
 
 TEST_F(ExportRun, BadFormatOrMissingRunIsAUsageError) {
