@@ -511,24 +511,25 @@ std::vector<fs::path> simOutputs(const Scene&, const fs::path& outDir, int f) { 
 std::vector<fs::path> surfaceOutputs(const Scene&, const fs::path& outDir, int f) { return {surfaceFile(outDir, f)}; }
 std::vector<fs::path> noOutputs(const Scene&, const fs::path&, int) { return {}; }
 
-bool simUpToDate(const Scene& scene, const fs::path& outDir, int f) {
-  if (!fs::exists(cacheFile(outDir, f))) return false;
+// True when `read` (a stamped reader: checksum, then stage, hash and frame) accepts the file.
+template <class Reader>
+bool readsBack(const fs::path& file, Reader read) {
+  if (!fs::exists(file)) return false;
   try {
-    readParticleFrame(cacheFile(outDir, f), {"sim", stageHash(scene, "sim"), f});
+    read(file);
     return true;
   } catch (const std::exception&) {
     return false;
   }
 }
 
+bool simUpToDate(const Scene& scene, const fs::path& outDir, int f) {
+  return readsBack(cacheFile(outDir, f), [&](const fs::path& p) { readParticleFrame(p, {"sim", stageHash(scene, "sim"), f}); });
+}
+
 bool surfaceUpToDate(const Scene& scene, const fs::path& outDir, int f) {
-  if (!fs::exists(surfaceFile(outDir, f))) return false;
-  try {
-    readSurfaceFile(surfaceFile(outDir, f), {"surface", stageHash(scene, "surface"), f});
-    return true;
-  } catch (const std::exception&) {
-    return false;
-  }
+  return readsBack(surfaceFile(outDir, f),
+                   [&](const fs::path& p) { readSurfaceFile(p, {"surface", stageHash(scene, "surface"), f}); });
 }
 
 bool neverUpToDate(const Scene&, const fs::path&, int) { return false; }

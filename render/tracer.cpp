@@ -956,6 +956,24 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
           Vector3f sum = Vector3f::Zero(), albedoSum = Vector3f::Zero(), normalSum = Vector3f::Zero();
           int covered = 0;
           int n = nFixed;
+          // One path through sub-pixel `offset`: added to the pixel's sums; returns its radiance.
+          const auto pathSample = [&](int s, const Vector2f& offset) {
+            PixelSampler rng(pixel, static_cast<uint32_t>(s), static_cast<uint32_t>(settings.seed));
+            const float lens1 = rng.next(), lens2 = rng.next();
+            Vector3f origin, direction;
+            camera.generate(static_cast<float>(x) + offset.x(), static_cast<float>(y) + offset.y(), lens1, lens2, origin,
+                            direction);
+            ++counters.primary;
+            bool hitSomething = false;
+            PathFeatures pf;
+            const Vector3f value =
+                tracePath(frame, origin, direction, rng, context, counters, hitSomething, denoising ? &pf : nullptr);
+            sum += value;
+            albedoSum += pf.albedo;
+            normalSum += pf.normal;
+            covered += hitSomething ? 1 : 0;
+            return value;
+          };
           if (whitted) {
             // Fixed sub-pixel positions (a Hammersley set, half a stratum in) and lens points.
             for (int s = 0; s < n; ++s) {
@@ -977,21 +995,8 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
             while (n < adaptive.maxSamples) {
               const int batchEnd = std::min(n + adaptive.minSamples, adaptive.maxSamples);
               for (int s = n; s < batchEnd; ++s) {
-                PixelSampler rng(pixel, static_cast<uint32_t>(s), static_cast<uint32_t>(settings.seed));
-                const Vector2f offset = pixelSamplePositionProgressive(uint32_t(s), pixel, static_cast<uint32_t>(settings.seed));
-                const float lens1 = rng.next(), lens2 = rng.next();
-                Vector3f origin, direction;
-                camera.generate(static_cast<float>(x) + offset.x(), static_cast<float>(y) + offset.y(), lens1, lens2,
-                                origin, direction);
-                ++counters.primary;
-                bool hitSomething = false;
-                PathFeatures pf;
-                const Vector3f value = tracePath(frame, origin, direction, rng, context, counters, hitSomething,
-                                                 denoising ? &pf : nullptr);
-                sum += value;
-                albedoSum += pf.albedo;
-                normalSum += pf.normal;
-                covered += hitSomething ? 1 : 0;
+                const Vector3f value =
+                    pathSample(s, pixelSamplePositionProgressive(uint32_t(s), pixel, static_cast<uint32_t>(settings.seed)));
                 const double lum = 0.2126 * value.x() + 0.7152 * value.y() + 0.0722 * value.z();
                 lumSum += lum;
                 lumSquares += lum * lum;
@@ -1002,21 +1007,8 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
               if (std::sqrt(variance / n) <= adaptive.relativeError * std::max(mean, 0.05)) break;
             }
           } else {
-            for (int s = 0; s < n; ++s) {
-              PixelSampler rng(pixel, static_cast<uint32_t>(s), static_cast<uint32_t>(settings.seed));
-              const Vector2f offset = pixelSamplePosition(uint32_t(s), uint32_t(n), pixel, static_cast<uint32_t>(settings.seed));
-              const float lens1 = rng.next(), lens2 = rng.next();
-              Vector3f origin, direction;
-              camera.generate(static_cast<float>(x) + offset.x(), static_cast<float>(y) + offset.y(), lens1, lens2,
-                              origin, direction);
-              ++counters.primary;
-              bool hitSomething = false;
-              PathFeatures pf;
-              sum += tracePath(frame, origin, direction, rng, context, counters, hitSomething, denoising ? &pf : nullptr);
-              albedoSum += pf.albedo;
-              normalSum += pf.normal;
-              covered += hitSomething ? 1 : 0;
-            }
+            for (int s = 0; s < n; ++s)
+              pathSample(s, pixelSamplePosition(uint32_t(s), uint32_t(n), pixel, static_cast<uint32_t>(settings.seed)));
           }
           if (denoising) {
             features.albedo[pixel] = albedoSum / float(n);
