@@ -257,7 +257,8 @@ int farmMerge(ArgParser& args) {
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one OUT folder");
   const FarmPlan plan = loadPlan(positional[0]);
-  const FarmProgress p = farmProgress(plan, planScene(plan));
+  const Scene scene = planScene(plan);
+  const FarmProgress p = farmProgress(plan, scene);
   if (!p.missingFrames.empty())
     throw std::runtime_error(plan.outDir.string() + ": frames " + frameList(p.missingFrames) +
                              " are missing; `kurage farm status` says which tasks failed");
@@ -287,6 +288,10 @@ int farmMerge(ArgParser& args) {
     run["farm"]["jobs"] = nlohmann::json::parse(readText(plan.outDir / "farm/jobs.json"));
   writeTextAtomic(plan.outDir / "run.json", run.dump(2) + "\n");
   std::printf("run: %s\n", (plan.outDir / "run.json").string().c_str());
+  if (!scene.render.outputs.png) {
+    std::printf("video: none (render.outputs.png is false; the video is made from the PNG frames)\n");
+    return 0;
+  }
   encodeVideoAndReport(plan.outDir / "frames", plan.first, plan.last - plan.first + 1, plan.fps,
                        plan.outDir / (plan.sceneName + ".mp4"));
   return 0;
