@@ -4,7 +4,6 @@
 #include "pipeline/io/run_lock.h"
 #include "pipeline/scene.h"
 #include "pipeline/stages.h"
-#include "pipeline/io/video.h"
 #include "sim/simulation.h"
 
 #include <cstdio>
@@ -94,12 +93,9 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
       if (all ? stage.inRun(scene) : name == stage.name) stage.run(scene, options.stage, record);
     const StageSpec& shown = findStage(all ? "render" : name);
     std::printf("%s: %s\n", shown.label, (options.stage.outDir / shown.folder).string().c_str());
-    if (video && !scene.render.outputs.png) {
-      std::printf("video: none (render.outputs.png is false; the video is made from the PNG frames)\n");
-    } else if (video) {
+    if (video) {
       const auto [first, last] = frameRange(scene, options.stage);
-      encodeVideoAndReport(options.stage.outDir / "frames", first, last - first + 1, scene.output.fps,
-                           options.stage.outDir / (scene.name + ".mp4"));
+      encodeSceneVideo(scene, options.stage.outDir, first, last);
     }
   } catch (const std::exception& e) {
     // run.json says how the run ended; a failure to record that must not hide the first error.

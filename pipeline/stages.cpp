@@ -7,6 +7,7 @@
 #include "pipeline/io/image_file.h"
 #include "pipeline/io/stamp.h"
 #include "pipeline/io/surface_file.h"
+#include "pipeline/io/video.h"
 #include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/progress.h"
@@ -23,6 +24,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -398,15 +400,15 @@ namespace {
 fs::path cacheFile(const fs::path& outDir, int f) { return frameFile(outDir / "particles", f, "vdb"); }
 fs::path surfaceFile(const fs::path& outDir, int f) { return frameFile(outDir / "surfaces", f, "vdb"); }
 
-void surfaceOneFrame(const Scene& scene, const fs::path& outDir, int f, FrameTally& tally) {
+void surfaceOneFrame(const StageContext& c, int f, FrameTally& tally) {
   const std::map<std::string, render::LevelSet> surfaces =
-      surfaceFrame(scene, readParticleFrame(cacheFile(outDir, f), {"sim", stageHash(scene, "sim"), f}));
+      surfaceFrame(c.scene, readParticleFrame(cacheFile(c.outDir, f), c.stamp("sim", f)));
   std::map<std::string, const render::LevelSet*> grids;
   for (const auto& [name, grid] : surfaces) {
     grids[name] = &grid;
     tally["voxels"] += double(grid.activeVoxelCount());
   }
-  writeSurfaceFile(surfaceFile(outDir, f), grids, scene.output.frameTime(f), f, stageHash(scene, "surface"));
+  writeSurfaceFile(surfaceFile(c.outDir, f), grids, c.scene.output.frameTime(f), f, c.surfaceHash);
 }
 
 void summariseSurface(const Scene&, const FrameTally& tally, int framesDone, nlohmann::json& stage) {
@@ -440,37 +442,39 @@ render::Image renderSurfaces(const Scene& scene, const std::map<std::string, ren
 
 namespace {
 
-std::vector<fs::path> renderOutputs(const Scene& scene, const fs::path& outDir, int f) {
+std::vector<fs::path> renderOutputs(const StageContext& c, int f) {
   std::vector<fs::path> files;
-  if (scene.render.outputs.png) files.push_back(frameFile(outDir / "frames", f, "png"));
-  if (scene.render.outputs.exr) files.push_back(frameFile(outDir / "frames", f, "exr"));
+  if (c.scene.render.outputs.png) files.push_back(frameFile(c.outDir / "frames", f, "png"));
+  if (c.scene.render.outputs.exr) files.push_back(frameFile(c.outDir / "frames", f, "exr"));
   return files;
 }
 
-bool renderUpToDate(const Scene& scene, const fs::path& outDir, int f) {
-  const FileStamp stamp{"render", stageHash(scene, "render"), f};
-  return (!scene.render.outputs.png || pngStampMatches(frameFile(outDir / "frames", f, "png"), stamp)) &&
-         (!scene.render.outputs.exr || exrStampMatches(frameFile(outDir / "frames", f, "exr"), stamp));
+bool renderUpToDate(const StageContext& c, int f) {
+  const FileStamp stamp = c.stamp("render", f);
+  for (const fs::path& file : renderOutputs(c, f))
+    if (!(file.extension() == ".png" ? pngStampMatches(file, stamp) : exrStampMatches(file, stamp))) return false;
+  return true;
 }
 
-void renderOneFrame(const Scene& scene, const fs::path& outDir, int f, FrameTally& tally) {
+void renderOneFrame(const StageContext& c, int f, FrameTally& tally) {
+  const Scene& scene = c.scene;
   render::RenderStats stats;
   std::vector<render::CurveSet> curves;
-  if (hasChains(scene))
-    curves.push_back(chainTubes(scene, readParticleFrame(cacheFile(outDir, f), {"sim", stageHash(scene, "sim"), f})));
+  if (hasChains(scene)) curves.push_back(chainTubes(scene, readParticleFrame(cacheFile(c.outDir, f), c.stamp("sim", f))));
   render::FrameLayers layers;
   const render::Image image =
-      renderSurfaces(scene, readSurfaceFile(surfaceFile(outDir, f), {"surface", stageHash(scene, "surface"), f}),
-                     scene.output.frameTime(f), &stats, curves, scene.render.outputs.exr ? &layers : nullptr);
+      renderSurfaces(scene, readSurfaceFile(surfaceFile(c.outDir, f), c.stamp("surface", f)), scene.output.frameTime(f),
+                     &stats, curves, scene.render.outputs.exr ? &layers : nullptr);
   tally["primary_rays"] += double(stats.primaryRays);
   tally["total_rays"] += double(stats.totalRays);
   tally["trace_seconds"] += stats.seconds;
-  const FileStamp stamp{"render", stageHash(scene, "render"), f};
-  if (scene.render.outputs.png)
-    writePng(image, frameFile(outDir / "frames", f, "png"), scene.render.settings.transparentBackground,
-             scene.render.bitDepth, &stamp);
-  if (scene.render.outputs.exr)
-    writeExr(frameFile(outDir / "frames", f, "exr"), image, &layers, scene.output.frameTime(f), f, &stamp);
+  const FileStamp stamp = c.stamp("render", f);
+  for (const fs::path& file : renderOutputs(c, f)) {
+    if (file.extension() == ".png")
+      writePng(image, file, scene.render.settings.transparentBackground, scene.render.bitDepth, &stamp);
+    else
+      writeExr(file, image, &layers, scene.output.frameTime(f), f, &stamp);
+  }
 }
 
 void summariseRender(const Scene& scene, const FrameTally& tally, int, nlohmann::json& stage) {
@@ -507,9 +511,18 @@ namespace {
 bool always(const Scene&) { return true; }
 bool exportsWanted(const Scene& scene) { return scene.output.exports.any(); }
 
-std::vector<fs::path> simOutputs(const Scene&, const fs::path& outDir, int f) { return {cacheFile(outDir, f)}; }
-std::vector<fs::path> surfaceOutputs(const Scene&, const fs::path& outDir, int f) { return {surfaceFile(outDir, f)}; }
-std::vector<fs::path> noOutputs(const Scene&, const fs::path&, int) { return {}; }
+std::vector<fs::path> simOutputs(const StageContext& c, int f) { return {cacheFile(c.outDir, f)}; }
+std::vector<fs::path> surfaceOutputs(const StageContext& c, int f) { return {surfaceFile(c.outDir, f)}; }
+std::vector<fs::path> noOutputs(const StageContext&, int) { return {}; }
+
+std::vector<StageInput> noInputs(const StageContext&, int) { return {}; }
+std::vector<StageInput> surfaceInputs(const StageContext& c, int f) { return {{cacheFile(c.outDir, f), "sim"}}; }
+// Chains are not surfaced: their tubes come from the particle caches.
+std::vector<StageInput> renderInputs(const StageContext& c, int f) {
+  std::vector<StageInput> in{{surfaceFile(c.outDir, f), "surface"}};
+  if (hasChains(c.scene)) in.push_back({cacheFile(c.outDir, f), "sim"});
+  return in;
+}
 
 // True when `read` (a stamped reader: checksum, then stage, hash and frame) accepts the file.
 template <class Reader>
@@ -523,27 +536,27 @@ bool readsBack(const fs::path& file, Reader read) {
   }
 }
 
-bool simUpToDate(const Scene& scene, const fs::path& outDir, int f) {
-  return readsBack(cacheFile(outDir, f), [&](const fs::path& p) { readParticleFrame(p, {"sim", stageHash(scene, "sim"), f}); });
+bool simUpToDate(const StageContext& c, int f) {
+  return readsBack(cacheFile(c.outDir, f), [&](const fs::path& p) { readParticleFrame(p, c.stamp("sim", f)); });
 }
 
-bool surfaceUpToDate(const Scene& scene, const fs::path& outDir, int f) {
-  return readsBack(surfaceFile(outDir, f),
-                   [&](const fs::path& p) { readSurfaceFile(p, {"surface", stageHash(scene, "surface"), f}); });
+bool surfaceUpToDate(const StageContext& c, int f) {
+  return readsBack(surfaceFile(c.outDir, f), [&](const fs::path& p) { readSurfaceFile(p, c.stamp("surface", f)); });
 }
 
-bool neverUpToDate(const Scene&, const fs::path&, int) { return false; }
+bool neverUpToDate(const StageContext&, int) { return false; }
 
 }  // namespace
 
 const std::vector<StageSpec>& stageTable() {
   static const std::vector<StageSpec> table{
-      {"sim", "", "particles", "particle caches", true, always, simOutputs, simUpToDate, nullptr, nullptr, runSimStage},
-      {"surface", "sim", "surfaces", "surfaces", false, always, surfaceOutputs, surfaceUpToDate, surfaceOneFrame,
-       summariseSurface, runSurfaceStage},
-      {"render", "surface", "frames", "frames", false, always, renderOutputs, renderUpToDate, renderOneFrame,
+      {"sim", "particles", "particle caches", true, always, noInputs, simOutputs, simUpToDate, nullptr, nullptr,
+       runSimStage},
+      {"surface", "surfaces", "surfaces", false, always, surfaceInputs, surfaceOutputs, surfaceUpToDate,
+       surfaceOneFrame, summariseSurface, runSurfaceStage},
+      {"render", "frames", "frames", false, always, renderInputs, renderOutputs, renderUpToDate, renderOneFrame,
        summariseRender, runRenderStage},
-      {"export", "surface", "exports", "exports", false, exportsWanted, noOutputs, neverUpToDate, nullptr, nullptr,
+      {"export", "exports", "exports", false, exportsWanted, noInputs, noOutputs, neverUpToDate, nullptr, nullptr,
        runExportStage}};
   return table;
 }
@@ -554,27 +567,35 @@ const StageSpec& findStage(const std::string& name) {
   throw std::invalid_argument("unknown stage " + name);
 }
 
+StageContext::StageContext(const Scene& s, fs::path out)
+    : scene(s), outDir(std::move(out)), simHash(stageHash(s, "sim")), surfaceHash(stageHash(s, "surface")),
+      renderHash(stageHash(s, "render")) {}
+
+FileStamp StageContext::stamp(const std::string& stage, int frame) const {
+  if (stage == "sim") return {stage, simHash, frame};
+  if (stage == "surface") return {stage, surfaceHash, frame};
+  if (stage == "render") return {stage, renderHash, frame};
+  throw std::invalid_argument("StageContext::stamp: unknown stage " + stage);
+}
+
 void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOptions& options, RunRecord& record) {
   const auto [first, last] = frameRange(scene, options);
   const auto start = std::chrono::steady_clock::now();
+  const StageContext context(scene, options.outDir);
   // Frames whose outputs are whole and from the same inputs and settings are kept (incremental);
-  // --force redoes them.
+  // --force redoes them. The rest need their inputs.
   std::vector<int> todo;
   for (int f = first; f <= last; ++f)
-    if (options.force || !stage.upToDate(scene, options.outDir, f)) todo.push_back(f);
-  // Their inputs must exist: the input stage's files (and the caches, for a scene's chains).
-  const StageSpec& input = findStage(stage.input);
-  for (int f : todo) {
-    for (const fs::path& file : input.outputs(scene, options.outDir, f)) requireFile(file, input.name);
-    if (std::string(stage.name) == "render" && hasChains(scene)) requireFile(cacheFile(options.outDir, f), "sim");
-  }
+    if (options.force || !stage.upToDate(context, f)) todo.push_back(f);
+  for (int f : todo)
+    for (const StageInput& in : stage.inputs(context, f)) requireFile(in.file, in.producer);
   fs::create_directories(options.outDir / stage.folder);
   Progress progress(stage.name, int(todo.size()), options.progress);
   FrameTally tally;
   int done = 0;
   for (int f : todo) {
     throwIfInterrupted();
-    stage.perFrame(scene, options.outDir, f, tally);
+    stage.perFrame(context, f, tally);
     progress.advance(++done);
   }
   progress.finish();
@@ -585,6 +606,14 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
   stage.summarise(scene, tally, done, entry);
   record.setStage(stage.name, std::move(entry));
   record.save();
+}
+
+void encodeSceneVideo(const Scene& scene, const fs::path& outDir, int first, int last) {
+  if (!scene.render.outputs.png) {
+    std::printf("video: none (render.outputs.png is false; the video is made from the PNG frames)\n");
+    return;
+  }
+  encodeVideoAndReport(outDir / "frames", first, last - first + 1, scene.output.fps, outDir / (scene.name + ".mp4"));
 }
 
 }  // namespace kurage::pipeline

@@ -64,25 +64,43 @@ nlohmann::json versionInfo();
 // Sums a per-frame stage keeps over its frames (rays, voxels, seconds), by name.
 using FrameTally = std::map<std::string, double>;
 
+// What a stage's per-frame functions work with: the scene, OUT, and the scene's stage hashes
+// (stageHash), made once per stage run rather than per frame.
+struct StageContext {
+  StageContext(const Scene& scene, std::filesystem::path outDir);
+  const Scene& scene;
+  std::filesystem::path outDir;
+  std::string simHash, surfaceHash, renderHash;
+  // What frame f's file of `stage` must carry: {stage, that stage's hash, f}.
+  FileStamp stamp(const std::string& stage, int frame) const;
+};
+
+// A file a stage reads for a frame, and the stage that makes it (for "run `kurage sim` first").
+struct StageInput {
+  std::filesystem::path file;
+  const char* producer;
+};
+
 // The stages as one table, read by the CLI (`kurage run|sim|surface|render`), the local runner
-// and the farm (pipeline/farm): what each reads, what it writes per frame, and how it runs.
+// and the farm (pipeline/farm): what each reads and writes per frame, and how it runs.
 struct StageSpec {
   const char* name;    // "sim", "surface", "render", "export"
-  const char* input;   // the stage whose files it reads ("" for the scene alone)
   const char* folder;  // OUT/<folder> holds its per-frame files
   const char* label;   // what those files are, for messages ("particle caches", ...)
   // Sequential in time (each frame needs the state of the one before): one process, never split.
   bool sequential;
   // Part of `kurage run` for this scene (export: only with output.exports).
   bool (*inRun)(const Scene& scene);
+  // The files it reads for frame f (the outputs of the stages before it).
+  std::vector<StageInput> (*inputs)(const StageContext& context, int frame);
   // The files it writes for frame f (empty: none per frame).
-  std::vector<std::filesystem::path> (*outputs)(const Scene& scene, const std::filesystem::path& outDir, int frame);
+  std::vector<std::filesystem::path> (*outputs)(const StageContext& context, int frame);
   // Frame f's outputs exist whole and were made from the same inputs and settings (their stamps
   // hold this scene's stageHash and the frame): an incremental run skips the frame.
-  bool (*upToDate)(const Scene& scene, const std::filesystem::path& outDir, int frame);
+  bool (*upToDate)(const StageContext& context, int frame);
   // Makes frame f (inputs checked by the caller); adds to the tally. Null for a stage that runs
   // as a whole (sim: sequential; export).
-  void (*perFrame)(const Scene& scene, const std::filesystem::path& outDir, int frame, FrameTally& tally);
+  void (*perFrame)(const StageContext& context, int frame, FrameTally& tally);
   // The stage's entry in run.json from its tally over `framesDone` frames (per-frame stages).
   void (*summarise)(const Scene& scene, const FrameTally& tally, int framesDone, nlohmann::json& stage);
   // Runs the stage over the frames of `options` and records it.
@@ -108,6 +126,10 @@ void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& 
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
 // The level sets of one frame: "fluid" and one per body (chains excepted), named after it.
 std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame);
+// OUT/NAME.mp4 from OUT/frames (frames first..last) when the scene writes PNG frames; otherwise
+// says there is no video.
+void encodeSceneVideo(const Scene& scene, const std::filesystem::path& outDir, int first, int last);
+
 // Renders the surfaces, and the tubes `curves` (chainTubes() of the frame when the scene has
 // chains), with the camera at simulated time `time` (camera keys). `layers`, when given, gets
 // the frame's compositing layers with the scene's object ids (render_scene.h: objectIdOfKind).

@@ -184,7 +184,7 @@ TEST(EndToEnd, ExrFramesCarryTheLayersBesideOrInsteadOfPng) {
   EXPECT_LT(error / double(png.width() * png.height()), 0.01);
   EXPECT_GT(fluid, 50u) << "no fluid pixels in the object_id layer";
   EXPECT_GT(ground, 50u) << "no ground pixels in the object_id layer";
-  // The EXR-only run's frame is the same beauty.
+  // The EXR-only run's frame shows the same objects where the run with both outputs did.
   const pipeline::ExrFrame only = pipeline::readExr(a / "frames/0004.exr");
   EXPECT_EQ(only.layers.objectId, exr.layers.objectId);
 }

@@ -5,6 +5,7 @@
 // adaptive sampling (no more than min_samples where there is no noise, the asked-for error
 // where there is), and the denoiser (a noise-free checkerboard unchanged, a noisy plain ground's
 // error cut threefold).
+#include "furnace_scene.h"
 #include "render/tracer.h"
 
 #include <gtest/gtest.h>
@@ -116,15 +117,7 @@ TEST(EnvironmentSampling, SameMeanAsBsdfSamplingWithFarLessVariance) {
 TEST(EnvironmentSampling, DiffuseSphereInUniformSkyKeepsItsAlbedo) {
   // The furnace with the sky sampled as a light: the MIS estimator is no longer noise-free, but
   // its mean over the sphere's pixels is the albedo (5 standard errors).
-  kr::RenderScene scene;
-  scene.environment.type = kr::EnvironmentType::Uniform;
-  scene.environment.zenith = {1, 1, 1};
-  scene.sun.irradiance = Vector3f::Zero();
-  scene.ground.enabled = false;
-  scene.camera.position = {0, -4, 0};
-  scene.camera.lookAt = {0, 0, 0};
-  scene.camera.up = {0, 0, 1};
-  scene.camera.verticalFovDegrees = 20.0f;  // the sphere fills the view
+  kr::RenderScene scene = kurage::test::furnaceScene(20.0f);  // the sphere fills the view
   kr::Material diffuse;
   diffuse.albedo = {0.6f, 0.6f, 0.6f};
   scene.spheres.push_back({{{0, 0, 0}}, {}, 1.0f, diffuse});

@@ -19,6 +19,7 @@
 //
 // Refraction: a glass slab of thickness d over a checker ground shifts the ground seen through
 // it by d (tan(theta_i) - tan(theta_t)) with sin(theta_i) = n sin(theta_t) (Snell).
+#include "furnace_scene.h"
 #include "render/tracer.h"
 
 #include <gtest/gtest.h>
@@ -36,18 +37,7 @@ namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-kr::RenderScene furnace() {
-  kr::RenderScene scene;
-  scene.environment.type = kr::EnvironmentType::Uniform;
-  scene.environment.zenith = {1, 1, 1};
-  scene.sun.irradiance = Vector3f::Zero();
-  scene.ground.enabled = false;
-  scene.camera.position = {0, -4, 0};
-  scene.camera.lookAt = {0, 0, 0};
-  scene.camera.up = {0, 0, 1};
-  scene.camera.verticalFovDegrees = 35.0f;
-  return scene;
-}
+kr::RenderScene furnace() { return kurage::test::furnaceScene(35.0f); }
 
 struct FurnaceCase {
   const char* name;

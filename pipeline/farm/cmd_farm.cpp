@@ -5,7 +5,6 @@
 #include "pipeline/stages.h"
 #include "pipeline/io/files.h"
 #include "pipeline/scene.h"
-#include "pipeline/io/video.h"
 
 #include <array>
 #include <cstdio>
@@ -288,12 +287,7 @@ int farmMerge(ArgParser& args) {
     run["farm"]["jobs"] = nlohmann::json::parse(readText(plan.outDir / "farm/jobs.json"));
   writeTextAtomic(plan.outDir / "run.json", run.dump(2) + "\n");
   std::printf("run: %s\n", (plan.outDir / "run.json").string().c_str());
-  if (!scene.render.outputs.png) {
-    std::printf("video: none (render.outputs.png is false; the video is made from the PNG frames)\n");
-    return 0;
-  }
-  encodeVideoAndReport(plan.outDir / "frames", plan.first, plan.last - plan.first + 1, plan.fps,
-                       plan.outDir / (plan.sceneName + ".mp4"));
+  encodeSceneVideo(scene, plan.outDir, plan.first, plan.last);
   return 0;
 }
 

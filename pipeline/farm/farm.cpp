@@ -124,13 +124,14 @@ FarmProgress farmProgress(const FarmPlan& plan, const Scene& scene) {
   FarmProgress p;
   // A frame is done for a stage when the stage table says its outputs are whole and from this
   // scene's inputs and settings (the same test the stages use to skip it).
+  const StageContext context(scene, plan.outDir);
   const StageSpec& sim = findStage("sim");
   const StageSpec& surface = findStage("surface");
   const StageSpec& render = findStage("render");
   for (int f = plan.first; f <= plan.last; ++f) {
-    if (!sim.upToDate(scene, plan.outDir, f)) p.missingCaches.push_back(f);
-    if (!surface.upToDate(scene, plan.outDir, f)) p.missingSurfaces.push_back(f);
-    if (!render.upToDate(scene, plan.outDir, f)) p.missingFrames.push_back(f);
+    if (!sim.upToDate(context, f)) p.missingCaches.push_back(f);
+    if (!surface.upToDate(context, f)) p.missingSurfaces.push_back(f);
+    if (!render.upToDate(context, f)) p.missingFrames.push_back(f);
   }
   for (size_t i = 0; i < plan.chunks.size(); ++i)
     for (int f : p.missingFrames)

@@ -56,9 +56,7 @@ void writeExr(const fs::path& path, const render::Image& beauty, const render::F
   header.compression() = Imf::ZIP_COMPRESSION;
   header.insert("kurage:time", Imf::DoubleAttribute(time));
   header.insert("kurage:frame", Imf::IntAttribute(frame));
-  if (stamp)
-    header.insert("kurage:stamp", Imf::StringAttribute(stamp->stage + " " + stamp->sceneHash + " " +
-                                                       std::to_string(stamp->frame)));
+  if (stamp) header.insert("kurage:stamp", Imf::StringAttribute(stampText(*stamp)));
   Imf::FrameBuffer fb;
   for (const char* c : {"R", "G", "B", "A"}) header.channels().insert(c, Imf::Channel(Imf::HALF));
   slice(fb, "R", Imf::HALF, p.r, w);
@@ -161,7 +159,7 @@ ExrFrame readExr(const fs::path& path) {
 bool exrStampMatches(const fs::path& path, const FileStamp& expected) {
   if (!fs::exists(path)) return false;
   try {
-    return readExr(path).stamp == expected.stage + " " + expected.sceneHash + " " + std::to_string(expected.frame);
+    return readExr(path).stamp == stampText(expected);
   } catch (const std::exception&) {
     return false;  // damaged or not an EXR: redo it
   }

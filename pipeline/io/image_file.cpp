@@ -40,8 +40,6 @@ uint32_t getBigEndian(std::string_view bytes, size_t at) {
   return v;
 }
 
-std::string stampText(const FileStamp& s) { return s.stage + " " + s.sceneHash + " " + std::to_string(s.frame); }
-
 }  // namespace
 
 void writePng(const render::Image& image, const std::filesystem::path& path, bool withAlpha, int bitDepth,

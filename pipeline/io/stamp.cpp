@@ -78,6 +78,10 @@ void verifyChecksum(const std::string& bytes, const std::filesystem::path& path)
                   std::to_string(bytes.size()) + " bytes)");
 }
 
+std::string stampText(const FileStamp& stamp) {
+  return stamp.stage + " " + stamp.sceneHash + " " + std::to_string(stamp.frame);
+}
+
 void checkStamp(const FileStamp& found, const FileStamp& expected, const std::filesystem::path& path) {
   if (!expected.stage.empty() && found.stage != expected.stage)
     throw IoError(path.string() + ": wrong kind of file: made by the '" + found.stage + "' stage, expected '" +

@@ -42,6 +42,9 @@ void sealChecksum(std::string& bytes, const std::filesystem::path& path);
 // file", "damaged or truncated") on any mismatch.
 void verifyChecksum(const std::string& bytes, const std::filesystem::path& path);
 
+// "STAGE HASH FRAME": the stamp as one string, as frames (PNG, EXR) carry it.
+std::string stampText(const FileStamp& stamp);
+
 // Compares a parsed file's stamp with what the reader expects; throws IoError naming `path`.
 void checkStamp(const FileStamp& found, const FileStamp& expected, const std::filesystem::path& path);
 
