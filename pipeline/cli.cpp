@@ -102,12 +102,17 @@ const char* const kStageOptionsHelp =
     "  --progress         show progress on stderr even when it is not a terminal\n"
     "  --task NAME        (farm jobs) record into OUT/records/NAME.json, not OUT/run.json\n"
     "  --force            run a scene above the size limits (docs/RELIABILITY.md)\n"
+    "  --resume           (sim, run) continue the simulation from OUT/checkpoint.bin, bit for bit\n"
+    "  --checkpoint-every N  (sim, run) write OUT/checkpoint.bin every N frames (default 10; 0:\n"
+    "                     only after the last frame and on SIGINT/SIGTERM)\n"
     "  -h, --help         this help\n";
 
 StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput) {
   StageCommandOptions o;
   o.stage.progress = args.flag({"--progress"}) || isatty(STDERR_FILENO);
   o.stage.force = args.flag({"--force"});
+  o.stage.resume = args.flag({"--resume"});
+  if (auto every = args.intOption({"--checkpoint-every"}, 0, 1000000)) o.stage.checkpointEvery = *every;
   if (auto out = args.option({"-o", "--output"})) o.stage.outDir = *out;
   else if (requireOutput) args.fail("missing -o OUT");
   if (auto t = args.intOption({"--threads"}, 1, 1024)) o.threads = *t;

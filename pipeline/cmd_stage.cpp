@@ -1,6 +1,7 @@
 // kurage run | sim | surface | render SCENE -o OUT
 #include "pipeline/cli.h"
 #include "pipeline/interrupt.h"
+#include "pipeline/io/files.h"
 #include "pipeline/io/run_lock.h"
 #include "pipeline/scene.h"
 #include "pipeline/stages.h"
@@ -78,7 +79,11 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   // task takes no lock: its job dependencies order the stages, its frames are its own, and its
   // record is its own file (OUT/records/TASK.json).
   std::optional<RunLock> lock;
-  if (options.stage.task.empty()) lock.emplace(options.stage.outDir, name + " " + sceneFile);
+  if (options.stage.task.empty()) {
+    lock.emplace(options.stage.outDir, name + " " + sceneFile);
+    if (const size_t stale = removeStaleTemporaries(options.stage.outDir))
+      std::printf("%s: removed %zu temporary files left by a run that was killed\n", name.c_str(), stale);
+  }
   installInterruptHandlers();
   RunRecord record(options.stage.outDir, scene, sceneFile, options.stage.task);
   record.data()["threads"] = ThreadLimit::current();
@@ -95,7 +100,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
     std::printf("%s: %s\n", shown.label, (options.stage.outDir / shown.folder).string().c_str());
     if (video) {
       const auto [first, last] = frameRange(scene, options.stage);
-      encodeSceneVideo(scene, options.stage.outDir, first, last);
+      encodeSceneVideo(scene, options.stage.outDir, first, last, options.stage.force);
     }
   } catch (const std::exception& e) {
     // run.json says how the run ended; a failure to record that must not hide the first error.

@@ -30,6 +30,8 @@ void installInterruptHandlers() {
   sigaction(SIGTERM, &action, nullptr);
 }
 
+bool interruptPending() { return receivedSignal != 0; }
+
 void throwIfInterrupted() {
   if (const int signal = receivedSignal) throw Interrupted(signal);
 }

@@ -24,5 +24,7 @@ private:
 void installInterruptHandlers();
 // Throws Interrupted if a signal arrived since installInterruptHandlers().
 void throwIfInterrupted();
+// True if a signal arrived (for a stage that saves its state before throwIfInterrupted()).
+bool interruptPending();
 
 }  // namespace kurage::pipeline

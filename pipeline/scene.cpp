@@ -240,8 +240,6 @@ Scene parseScene(const nlohmann::json& document, const std::string& file, const 
   return scene;
 }
 
-namespace {
-
 // Parses JSON text, refusing duplicate keys (nlohmann keeps the last silently). Throws
 // SceneError naming the file: the line and column of a syntax error, the path of a duplicate.
 nlohmann::json parseStrictJson(const std::string& s, const std::string& file) {
@@ -291,8 +289,6 @@ nlohmann::json parseStrictJson(const std::string& s, const std::string& file) {
     throw SceneError(file, "", std::string("invalid JSON: ") + e.what());
   }
 }
-
-}  // namespace
 
 Scene loadScene(const std::filesystem::path& file, const LoadOptions& options) {
   std::string text;

@@ -190,6 +190,9 @@ inline constexpr double kMaxGridCells = 4e8;    // hard: the neighbour grid's ow
 // (a fluid block outside the container, ...), a `name` that is not a plain file name, and a
 // scene above the limits (the message gives the estimate).
 Scene loadScene(const std::filesystem::path& file, const LoadOptions& options = {});
+// Parses JSON text strictly: duplicate keys and numbers beyond a double are refused. Throws
+// SceneError naming the file (and the line and column of a syntax error, the path of a duplicate).
+nlohmann::json parseStrictJson(const std::string& text, const std::string& file);
 
 // Same, from an already parsed document; `file` is only used in messages.
 Scene parseScene(const nlohmann::json& document, const std::string& file, const LoadOptions& options = {});

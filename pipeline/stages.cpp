@@ -1,6 +1,7 @@
 #include "pipeline/stages.h"
 
 #include "pipeline/interrupt.h"
+#include "pipeline/io/checkpoint.h"
 #include "pipeline/io/exports.h"
 #include "pipeline/io/exr.h"
 #include "pipeline/io/files.h"
@@ -51,16 +52,72 @@ class BodyTrack {
 public:
   explicit BodyTrack(const Scene& scene) : scene_(scene) {}
 
+  // The shells as built: call with the simulation at t = 0, before any record.
+  void start(const sim::Simulation& simulation) {
+    const sim::ParticleSet& p = simulation.particles();
+    walls_.clear();
+    for (const sim::BodyParams& body : scene_.sim.bodies)
+      walls_.push_back(body.shape == sim::BodyShape::Shell
+                           ? std::optional<ShellWall>(std::in_place, body, int(&body - scene_.sim.bodies.data() + 1), p,
+                                                      scene_.sim.fluid.spacing)
+                           : std::nullopt);
+  }
+
+  // The rows so far, for checkpoints (pipeline/io/checkpoint.h).
+  std::string saveState() const {
+    sim::StateWriter out;
+    out.value(uint64_t(rows_.size()));
+    for (const Row& r : rows_) {
+      out.value(r.time);
+      out.value(r.surface);
+      std::vector<double> centres;
+      for (const Eigen::Vector3d& c : r.centres) centres.insert(centres.end(), {c.x(), c.y(), c.z()});
+      out.array(centres);
+      out.array(r.factors);
+      out.array(r.forces);
+      out.array(r.margins);
+      out.array(std::vector<uint64_t>(r.inWall.begin(), r.inWall.end()));
+      out.array(r.tilts);
+    }
+    return out.take();
+  }
+
+  // Throws sim::StateError for rows that do not fit the scene.
+  void restoreState(const std::string& bytes) {
+    sim::StateReader in(bytes);
+    const uint64_t count = in.value<uint64_t>();
+    if (count > uint64_t(scene_.output.frameCount()))
+      throw sim::StateError("checkpoint state: more body records than frames");
+    const size_t bodies = scene_.sim.bodies.size();
+    size_t muscles = 0, shells = 0;
+    for (const sim::BodyParams& b : scene_.sim.bodies) {
+      muscles += b.muscles.size();
+      shells += b.shape == sim::BodyShape::Shell;
+    }
+    std::vector<Row> rows(static_cast<size_t>(count));
+    for (Row& r : rows) {
+      r.time = in.value<double>();
+      r.surface = in.value<double>();
+      std::vector<double> centres;
+      in.arrayOf(centres, 3 * bodies);
+      for (size_t b = 0; b < bodies; ++b) r.centres.emplace_back(centres[3 * b], centres[3 * b + 1], centres[3 * b + 2]);
+      in.arrayOf(r.factors, bodies);
+      in.arrayOf(r.forces, muscles);
+      in.arrayOf(r.margins, shells);
+      std::vector<uint64_t> inWall;
+      in.arrayOf(inWall, shells);
+      r.inWall.assign(inWall.begin(), inWall.end());
+      in.arrayOf(r.tilts, shells);
+    }
+    if (!in.done()) throw sim::StateError("checkpoint state: bytes left over after the body records");
+    rows_ = std::move(rows);
+  }
+
   void record(const sim::Simulation& simulation) {
     if (scene_.sim.bodies.empty()) return;
     const sim::ParticleSet& p = simulation.particles();
     const size_t bodies = scene_.sim.bodies.size();
-    if (walls_.empty())  // the shells as built, at the first record (t = 0)
-      for (size_t b = 0; b < bodies; ++b)
-        walls_.push_back(scene_.sim.bodies[b].shape == sim::BodyShape::Shell
-                             ? std::optional<ShellWall>(std::in_place, scene_.sim.bodies[b], int(b + 1), p,
-                                                        scene_.sim.fluid.spacing)
-                             : std::nullopt);
+    if (walls_.empty()) start(simulation);
     std::vector<Eigen::Vector3d> centre(bodies, Eigen::Vector3d::Zero());
     std::vector<double> count(bodies, 0.0), mass(bodies, 0.0), factor(bodies, 0.0);
     std::vector<float> fluidZ;
@@ -250,6 +307,46 @@ void RunRecord::setStage(const std::string& name, nlohmann::json stage) { data_[
 
 void RunRecord::save() const { writeTextAtomic(path_, data_.dump(2) + "\n"); }
 
+namespace {
+
+// --resume: restores the simulation and the body records from OUT/checkpoint.bin and returns the
+// frame it holds, or -1 (start at t = 0, saying why) when there is none, it lies past the frames
+// asked for, or a cache it covers is missing or damaged. A damaged checkpoint, or one of other
+// scene parameters or another kurage, is an error naming the file.
+int resumeSimulation(const Scene& scene, const StageOptions& options, const std::string& simHash,
+                     sim::Simulation& simulation, BodyTrack& track) {
+  const fs::path file = checkpointFile(options.outDir);
+  if (!fs::exists(file)) {
+    std::printf("sim: no checkpoint %s: starting at t = 0\n", file.string().c_str());
+    return -1;
+  }
+  const Checkpoint c = readCheckpoint(file, simHash);
+  const auto [first, last] = frameRange(scene, options);
+  if (c.frame < 0 || c.frame > last) {
+    std::printf("sim: the checkpoint holds frame %d, outside the frames 0-%d: starting at t = 0\n", c.frame, last);
+    return -1;
+  }
+  const StageContext context(scene, options.outDir);
+  const StageSpec& sim = findStage("sim");
+  for (int f = first; f <= c.frame; ++f)
+    if (!sim.upToDate(context, f)) {
+      std::printf("sim: the cache of frame %d is missing or damaged: starting at t = 0\n", f);
+      return -1;
+    }
+  try {
+    sim::StateReader reader(c.simState);
+    simulation.restoreState(reader);
+    track.restoreState(c.stageState);
+  } catch (const sim::StateError& e) {
+    throw IoError(file.string() + ": " + e.what());
+  }
+  if (simulation.time() != c.time) throw IoError(file.string() + ": its state's time disagrees with its header");
+  std::printf("sim: resuming after frame %d (t = %g s) from %s\n", c.frame, c.time, file.string().c_str());
+  return c.frame;
+}
+
+}  // namespace
+
 void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
   const auto [first, last] = frameRange(scene, options);
   const auto start = std::chrono::steady_clock::now();
@@ -258,9 +355,22 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   const std::string simHash = stageHash(scene, "sim");
   sim::Simulation simulation(scene.sim);
   BodyTrack track(scene);
+  track.start(simulation);
+  const fs::path checkpoint = checkpointFile(options.outDir);
+  const int resumed = options.resume ? resumeSimulation(scene, options, simHash, simulation, track) : -1;
+  int saved = resumed;  // the frame of the newest checkpoint
+  const auto save = [&](int f) {
+    sim::StateWriter state;
+    simulation.saveState(state);
+    writeCheckpoint(checkpoint, {f, simulation.time(), state.take(), track.saveState()}, simHash);
+    saved = f;
+  };
   Progress progress("sim", last + 1, options.progress);
-  for (int f = 0; f <= last; ++f) {
-    throwIfInterrupted();
+  for (int f = resumed + 1; f <= last; ++f) {
+    if (interruptPending()) {
+      if (f - 1 > saved) save(f - 1);  // a resume starts after the last frame done
+      throwIfInterrupted();
+    }
     simulation.advanceTo(scene.output.frameTime(f));
     track.record(simulation);
     if (f >= first) {
@@ -268,6 +378,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
       frame.sceneHash = simHash;
       writeParticleFrame(frameFile(folder, f, "vdb"), frame);
     }
+    if (f == last || (options.checkpointEvery > 0 && (f + 1) % options.checkpointEvery == 0)) save(f);
     progress.advance(f + 1);
   }
   progress.finish();
@@ -331,6 +442,9 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
       {"frame_count", scene.output.frameCount()}};
   record.setStage("sim", {{"seconds", secondsSince(start)},
                           {"frames", {first, last}},
+                          {"resumed_after_frame", resumed >= 0 ? nlohmann::json(resumed) : nlohmann::json(nullptr)},
+                          {"checkpoint", {{"file", checkpoint.filename().string()}, {"frame", saved},
+                                          {"every_frames", options.checkpointEvery}}},
                           {"particles", simulation.particles().size()},
                           {"emitted_particles", stats.emitted},
                           {"emitter_blocked_positions", stats.emitterBlocked},
@@ -608,12 +722,16 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
   record.save();
 }
 
-void encodeSceneVideo(const Scene& scene, const fs::path& outDir, int first, int last) {
+void encodeSceneVideo(const Scene& scene, const fs::path& outDir, int first, int last, bool force) {
   if (!scene.render.outputs.png) {
     std::printf("video: none (render.outputs.png is false; the video is made from the PNG frames)\n");
     return;
   }
-  encodeVideoAndReport(outDir / "frames", first, last - first + 1, scene.output.fps, outDir / (scene.name + ".mp4"));
+  char stamp[160];
+  std::snprintf(stamp, sizeof stamp, "video %s %d %d %g", stageHash(scene, "render").c_str(), first, last - first + 1,
+                scene.output.fps);
+  encodeVideoAndReport(outDir / "frames", first, last - first + 1, scene.output.fps, outDir / (scene.name + ".mp4"),
+                       stamp, force);
 }
 
 }  // namespace kurage::pipeline

@@ -31,6 +31,11 @@ struct StageOptions {
   // OUT/run.json, which `kurage farm merge` assembles from the records. Empty: a local run.
   std::string task;
   bool force = false;  // --force: past the scene limits (LoadOptions), and redo valid outputs
+  // The simulation's checkpoints (pipeline/io/checkpoint.h): --resume continues from
+  // OUT/checkpoint.bin; one is written every checkpointEvery frames (0: only after the last frame
+  // and on SIGINT/SIGTERM).
+  bool resume = false;
+  int checkpointEvery = 10;
 };
 
 // The hash (16 hex digits) of everything in the scene that the output of `stage` ("sim",
@@ -127,8 +132,9 @@ std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, con
 // The level sets of one frame: "fluid" and one per body (chains excepted), named after it.
 std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame);
 // OUT/NAME.mp4 from OUT/frames (frames first..last) when the scene writes PNG frames; otherwise
-// says there is no video.
-void encodeSceneVideo(const Scene& scene, const std::filesystem::path& outDir, int first, int last);
+// says there is no video. A movie already made from the same frames and render settings (its
+// stamp) is kept unless `force`.
+void encodeSceneVideo(const Scene& scene, const std::filesystem::path& outDir, int first, int last, bool force = false);
 
 // Renders the surfaces, and the tubes `curves` (chainTubes() of the frame when the scene has
 // chains), with the camera at simulated time `time` (camera keys). `layers`, when given, gets

@@ -107,6 +107,13 @@ Study parseStudy(const nlohmann::json& document, const std::filesystem::path& fi
 // path, an index past the end of an array, or a step into a value of the wrong type.
 void setJsonPath(nlohmann::json& document, const std::string& path, const nlohmann::json& value);
 
+// A path of the study file (its scene, its reference data): relative to the study file's folder.
+std::filesystem::path studyPath(const Study& study, const std::string& relative);
+// The knob settings, one list per knob; every combination of one setting per knob (indices into
+// those lists), the first knob varying fastest.
+std::vector<std::vector<KnobSetting>> studySettings(const Study& study);
+std::vector<std::vector<size_t>> studyCombinations(const std::vector<std::vector<KnobSetting>>& settings);
+
 // The scene of one run: the base scene's JSON with the study's `set` and the knob settings applied.
 nlohmann::json studyRunScene(const Study& study, const std::vector<const KnobSetting*>& settings);
 

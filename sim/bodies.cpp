@@ -525,4 +525,16 @@ void BodySystem::collide(ParticleSet& p, int maxPasses, double t) {
   if (found > 0) ++stats_.capHits;
 }
 
+void BodySystem::saveState(StateWriter& out) const {
+  out.array(lengthRatio_);
+  for (const std::vector<float>& w : muscleWeights_) out.array(w);
+  out.value(stats_);
+}
+
+void BodySystem::restoreState(StateReader& in) {
+  in.arrayOf(lengthRatio_, lengthRatio_.size());
+  for (std::vector<float>& w : muscleWeights_) in.arrayOf(w, w.size());
+  stats_ = in.value<BodyStats>();
+}
+
 }  // namespace kurage::sim

@@ -10,6 +10,7 @@
 #include "sim/params.h"
 #include "sim/particles.h"
 #include "sim/springs.h"
+#include "sim/state.h"
 
 #include <cstdint>
 #include <string>
@@ -71,6 +72,10 @@ public:
   // Pinned particles or bodies held until a time (hold_until).
   bool hasPins() const { return !pinnedIds_.empty(); }
   const BodyStats& stats() const { return stats_; }
+  // What the bodies carry from step to step (stretch ratios, righting weights, statistics), for
+  // checkpoints; the springs, pins and muscles are rebuilt from the scene.
+  void saveState(StateWriter& out) const;
+  void restoreState(StateReader& in);
   size_t memoryBytes() const;
 
   // Maps ids to sorted positions; call after every re-sort.

@@ -88,4 +88,18 @@ size_t applySink(const SinkParams& sink, ParticleSet& particles, std::vector<uin
   return removed;
 }
 
+void Emitter::saveState(StateWriter& out) const {
+  out.value(travelled_);
+  out.value(emittedTarget_);
+  out.value(uint64_t(emitted_));
+  out.value(uint64_t(blocked_));
+}
+
+void Emitter::restoreState(StateReader& in) {
+  travelled_ = in.value<double>();
+  emittedTarget_ = in.value<double>();
+  emitted_ = size_t(in.value<uint64_t>());
+  blocked_ = size_t(in.value<uint64_t>());
+}
+
 }  // namespace kurage::sim

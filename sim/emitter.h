@@ -3,6 +3,7 @@
 
 #include "sim/params.h"
 #include "sim/particles.h"
+#include "sim/state.h"
 
 #include <cstdint>
 #include <vector>
@@ -26,6 +27,9 @@ public:
   // Particles this emitter will spawn over its whole life, for reserving storage.
   size_t expectedTotal() const;
   size_t blocked() const { return blocked_; }
+  // What it carries from step to step, for checkpoints.
+  void saveState(StateWriter& out) const;
+  void restoreState(StateReader& in);
 
 private:
   EmitterParams params_;

@@ -462,4 +462,76 @@ void Simulation::advanceTo(double t) {
   }
 }
 
+namespace {
+// Every per-particle array, in one fixed order.
+template <class P, class F>
+void forEachArray(P& p, F&& f) {
+  for (auto* a : {&p.x, &p.y, &p.z, &p.vx, &p.vy, &p.vz, &p.ax, &p.ay, &p.az, &p.density, &p.pressure,
+                                &p.restDensity, &p.mass})
+    f(*a);
+  f(p.id);
+  f(p.kind);
+}
+constexpr uint64_t kStateMagic = 0x4b55524147455354ull;  // "KURAGEST"
+}  // namespace
+
+void Simulation::saveState(StateWriter& out) const {
+  out.value(kStateMagic);
+  out.value(uint64_t(particles_.size()));
+  forEachArray(particles_, [&](const auto& a) { out.array(a); });
+  out.value(time_);
+  out.value(lastStep_);
+  out.value(nextId_);
+  out.value(stats_);
+  solver_->saveState(out);
+  out.value(uint64_t(emitters_.size()));
+  for (const Emitter& e : emitters_) e.saveState(out);
+  out.value(uint8_t(bodies_ != nullptr));
+  if (bodies_) bodies_->saveState(out);
+}
+
+void Simulation::restoreState(StateReader& in) {
+  if (in.value<uint64_t>() != kStateMagic) throw StateError("checkpoint state: not a simulation's state");
+  const uint64_t n = in.value<uint64_t>();
+  // At most the particles the scene can hold: those built plus every emitter's whole output.
+  uint64_t most = particles_.size();
+  for (const Emitter& e : emitters_) most += e.expectedTotal();
+  if (n > most)
+    throw StateError("checkpoint state: " + std::to_string(n) + " particles, more than the scene can make (" +
+                     std::to_string(most) + ")");
+  ParticleSet p;
+  p.reserve(size_t(most));
+  forEachArray(p, [&](auto& a) { in.arrayOf(a, n); });
+  const double time = in.value<double>();
+  const float lastStep = in.value<float>();
+  const int64_t nextId = in.value<int64_t>();
+  const SimStats stats = in.value<SimStats>();
+  if (!std::isfinite(time) || time < 0.0 || !std::isfinite(lastStep) || nextId < 0)
+    throw StateError("checkpoint state: time, step or ids out of range");
+  // Body particles (ids below the bodies' count) must all be there, once each.
+  const size_t bodyCount = bodies_ ? bodies_->particleCount() : 0;
+  std::vector<uint8_t> seen(bodyCount, 0);
+  for (size_t i = 0; i < n; ++i) {
+    if (p.id[i] < 0 || p.id[i] >= nextId) throw StateError("checkpoint state: a particle id out of range");
+    if (size_t(p.id[i]) < bodyCount) {
+      if (seen[size_t(p.id[i])]++) throw StateError("checkpoint state: a body particle twice");
+    } else if (p.kind[i] != 0) {
+      throw StateError("checkpoint state: a fluid particle id with a body's kind");
+    }
+  }
+  if (std::find(seen.begin(), seen.end(), uint8_t(0)) != seen.end())
+    throw StateError("checkpoint state: body particles missing");
+  solver_->restoreState(in);
+  if (in.value<uint64_t>() != emitters_.size()) throw StateError("checkpoint state: the emitters do not fit the scene");
+  for (Emitter& e : emitters_) e.restoreState(in);
+  if (in.value<uint8_t>() != uint8_t(bodies_ != nullptr)) throw StateError("checkpoint state: the bodies do not fit the scene");
+  if (bodies_) bodies_->restoreState(in);
+  if (!in.done()) throw StateError("checkpoint state: bytes left over");
+  particles_ = std::move(p);
+  time_ = time;
+  lastStep_ = lastStep;
+  nextId_ = nextId;
+  stats_ = stats;
+}
+
 }  // namespace kurage::sim

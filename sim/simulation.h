@@ -22,6 +22,7 @@
 #include "sim/params.h"
 #include "sim/particles.h"
 #include "sim/solvers/pressure_solver.h"
+#include "sim/state.h"
 #include "sim/time_step.h"
 
 #include <array>
@@ -94,6 +95,13 @@ public:
 
   // Bytes held by the simulation's per-particle arrays (particles, scratch, grid, neighbour lists).
   size_t memoryBytes() const;
+
+  // Checkpoints: everything the run carries from step to step (the particles in their current
+  // order, time, last step, ids, statistics, the solver's, bodies' and emitters' state). A
+  // Simulation built from the same parameters and given this state continues bit for bit as the
+  // one that saved it. restoreState throws StateError for state that does not fit the scene.
+  void saveState(StateWriter& out) const;
+  void restoreState(StateReader& in);
 
   // The stability bound of the scene's parameters at rest.
   StepLimit stabilityLimit() const;

@@ -1,6 +1,8 @@
 #include "pipeline/io/files.h"
 
 #include <atomic>
+#include <csignal>
+#include <vector>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -130,6 +132,31 @@ fs::path frameFile(const fs::path& folder, int frame, const char* extension) {
   char name[32];
   std::snprintf(name, sizeof name, "%04d.%s", frame, extension);
   return folder / name;
+}
+
+size_t removeStaleTemporaries(const fs::path& folder) {
+  std::error_code error;
+  if (!fs::is_directory(folder, error)) return 0;
+  std::vector<fs::path> stale;
+  for (auto it = fs::recursive_directory_iterator(folder, error); !error && it != fs::recursive_directory_iterator();
+       it.increment(error)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() < 6 || name[0] != '.' || name.substr(name.size() - 4) != ".tmp") continue;
+    // ".NAME.PID.N.tmp": the pid is the second-to-last dotted field before "tmp".
+    const size_t counterDot = name.rfind('.', name.size() - 5);
+    if (counterDot == std::string::npos || counterDot == 0) continue;
+    const size_t pidDot = name.rfind('.', counterDot - 1);
+    if (pidDot == std::string::npos) continue;
+    const std::string pidText = name.substr(pidDot + 1, counterDot - pidDot - 1);
+    if (pidText.empty() || pidText.find_first_not_of("0123456789") != std::string::npos || pidText.size() > 9) continue;
+    const pid_t pid = pid_t(std::stol(pidText));
+    const bool alive = ::kill(pid, 0) == 0 || errno != ESRCH;  // EPERM: another user's live process
+    if (pid == ::getpid() || alive) continue;
+    stale.push_back(it->path());
+  }
+  size_t removed = 0;
+  for (const fs::path& p : stale) removed += fs::remove(p, error) ? 1 : 0;
+  return removed;
 }
 
 }  // namespace kurage::pipeline

@@ -54,6 +54,12 @@ void writeTextAtomic(const std::filesystem::path& target, const std::string& tex
 std::string readFile(const std::filesystem::path& path);
 std::string readText(const std::filesystem::path& path);
 
+// Removes the temporaries (".NAME.PID.N.tmp") in `folder` and its subfolders left by processes
+// that no longer run on this machine (a run killed with SIGKILL, a power cut); returns how many.
+// Only for a caller that holds the folder's RunLock: a farm task on another node has pids this
+// machine cannot see.
+size_t removeStaleTemporaries(const std::filesystem::path& folder);
+
 // fsyncs a folder (so that a rename in it is durable). Throws IoError naming it.
 void syncFolder(const std::filesystem::path& folder);
 

@@ -29,6 +29,10 @@ struct FileStamp {
 // The metadata value to write for kurage:checksum before sealing (16 '0').
 inline constexpr std::string_view kChecksumPlaceholder = "0000000000000000";
 
+// The kurage:checksum entry as OpenVDB serialises string metadata, with the placeholder: the bytes
+// sealChecksum looks for. Files that are not OpenVDB's (checkpoints) carry the same bytes.
+std::string checksumField();
+
 // FNV-1a 64 (Fowler, Noll, Vo) over bytes, continuing from `hash`.
 uint64_t fnv1a64(std::string_view bytes, uint64_t hash = 0xcbf29ce484222325ull);
 // 16 lower-case hex digits.

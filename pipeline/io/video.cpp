@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <spawn.h>
 #include <stdexcept>
 #include <sys/wait.h>
@@ -57,6 +58,32 @@ std::string trimmed(std::string text) {
   return text;
 }
 
+// What ffprobe reads of a movie: its first video stream's frame count and the comment tag;
+// nullopt when ffprobe is missing or cannot read the file.
+struct Probe {
+  std::string frames, comment;
+};
+std::optional<Probe> probe(const fs::path& movie) {
+  if (!onPath("ffprobe")) return std::nullopt;
+  std::string out;
+  if (runProgram({"ffprobe", "-v", "error", "-select_streams", "v:0", "-show_entries",
+                  "stream=nb_frames:format_tags=comment", "-of", "default=noprint_wrappers=1", movie.string()},
+                 &out) != 0)
+    return std::nullopt;
+  Probe p;
+  size_t start = 0;
+  while (start < out.size()) {
+    const size_t end = std::min(out.find('\n', start), out.size());
+    const std::string line = out.substr(start, end - start);
+    if (line.rfind("nb_frames=", 0) == 0) p.frames = line.substr(10);
+    if (line.rfind("TAG:comment=", 0) == 0) p.comment = line.substr(12);
+    start = end + 1;
+  }
+  return p;
+}
+
+constexpr std::string_view kStampPrefix = "kurage:stamp ";
+
 }  // namespace
 
 bool onPath(const std::string& program) {
@@ -73,18 +100,27 @@ bool onPath(const std::string& program) {
   return false;
 }
 
-VideoResult encodeVideo(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie) {
+VideoResult encodeVideo(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie,
+                        const std::string& stamp, bool force) {
   char rate[32];
   std::snprintf(rate, sizeof rate, "%g", fps);
   std::vector<std::string> command = {
       "ffmpeg", "-nostdin", "-y", "-loglevel", "error", "-framerate", rate, "-start_number", std::to_string(first),
       "-i", (framesFolder / "%04d.png").string(), "-frames:v", std::to_string(count), "-c:v", "libx264", "-pix_fmt",
       "yuv420p", "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-f", "mp4", movie.string()};
+  if (!stamp.empty()) command.insert(command.end() - 1, {"-metadata", "comment=" + std::string(kStampPrefix) + stamp});
   VideoResult result;
   for (const std::string& part : command) {
     const std::string& shown = part;
     result.command += (result.command.empty() ? "" : " ") +
                       (shown.find_first_of("*()%") != std::string::npos ? "'" + shown + "'" : shown);
+  }
+  if (!stamp.empty() && !force && fs::exists(movie)) {
+    const std::optional<Probe> found = probe(movie);
+    if (found && found->frames == std::to_string(count) && found->comment == std::string(kStampPrefix) + stamp) {
+      result.upToDate = true;
+      return result;
+    }
   }
   if (!onPath("ffmpeg")) return result;
   // ffmpeg writes the temporary (unique, created exclusively); the movie is accepted only when
@@ -115,9 +151,12 @@ VideoResult encodeVideo(const fs::path& framesFolder, int first, int count, doub
   return result;
 }
 
-void encodeVideoAndReport(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie) {
-  const VideoResult video = encodeVideo(framesFolder, first, count, fps, movie);
-  if (video.encoded)
+void encodeVideoAndReport(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie,
+                          const std::string& stamp, bool force) {
+  const VideoResult video = encodeVideo(framesFolder, first, count, fps, movie, stamp, force);
+  if (video.upToDate)
+    std::printf("video: %s (up to date: made from the same frames and settings)\n", movie.string().c_str());
+  else if (video.encoded)
     std::printf("video: %s\n", movie.string().c_str());
   else
     std::printf("ffmpeg is not on the PATH (Debian: apt-get install ffmpeg); the frames stay in %s; to make a video: %s\n",

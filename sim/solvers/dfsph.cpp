@@ -36,6 +36,16 @@ double DfsphSolver::orderedSum(size_t count, F&& f) {
 
 void DfsphSolver::setInitialPressure(const std::vector<float>& piById) { piById_ = piById; }
 
+void DfsphSolver::saveState(StateWriter& out) const {
+  PressureSolver::saveState(out);
+  out.array(piById_);
+}
+
+void DfsphSolver::restoreState(StateReader& in) {
+  PressureSolver::restoreState(in);
+  in.array(piById_, uint64_t(1) << 32);
+}
+
 void DfsphSolver::afterDensity(const SolverContext& c) {
   ParticleSet& p = c.particles;
   const size_t n = p.size();

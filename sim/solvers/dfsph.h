@@ -69,6 +69,11 @@ public:
   void setInitialPressure(const std::vector<float>& piById) override;
   const SolverStats& stats() const override { return stats_; }
   size_t memoryBytes() const override;
+  void saveState(StateWriter& out) const override;  // statistics and the warm start by id
+  void restoreState(StateReader& in) override;
+
+protected:
+  SolverStats& mutableStats() override { return stats_; }
 
 private:
   // Drho_i/Dt of the current velocities, per particle, into rate_; returns nothing.

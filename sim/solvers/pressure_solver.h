@@ -18,6 +18,7 @@
 #include "sim/neighbor_grid.h"
 #include "sim/params.h"
 #include "sim/particles.h"
+#include "sim/state.h"
 
 #include <Eigen/Core>
 
@@ -77,6 +78,12 @@ public:
   virtual void setInitialPressure(const std::vector<float>& /*piById*/) {}
   virtual const SolverStats& stats() const = 0;
   virtual size_t memoryBytes() const { return 0; }
+  // What the solver carries from step to step (its statistics, a warm start), for checkpoints.
+  virtual void saveState(StateWriter& out) const { out.value(stats()); }
+  virtual void restoreState(StateReader& in) { mutableStats() = in.value<SolverStats>(); }
+
+protected:
+  virtual SolverStats& mutableStats() = 0;
 };
 
 // The registry: names accepted by fluid.solver, and the solver of a scene's parameters.

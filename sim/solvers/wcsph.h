@@ -17,6 +17,9 @@ public:
   void correctVelocities(const SolverContext&, float) override {}
   const SolverStats& stats() const override { return stats_; }
 
+protected:
+  SolverStats& mutableStats() override { return stats_; }
+
 private:
   float stiffness_;
   NegativePressure negative_;
