@@ -73,6 +73,12 @@ void checkLimits(const Scene& scene, const std::string& file, const LoadOptions&
   if (e.frames > kMaxFrames)
     throw SceneError(file, "output.duration", "gives " + formatCount(e.frames) + " frames, above the limit of " +
                                                  formatCount(kMaxFrames) + hint);
+  if (e.springs > kMaxSprings)
+    throw SceneError(file, "bodies[" + std::to_string(e.mostSpringsBody) + "].spacing",
+                     "the bodies would have about " + formatCount(e.springs) + " springs (" +
+                         formatCount(e.bodyParticles) + " particles, each joined to those within its connection "
+                         "radius), above the limit of " + formatCount(kMaxSprings) +
+                         "; a larger spacing or a smaller connection_radius fits" + hint);
   if (e.particles > kMaxParticles)
     throw SceneError(file, "fluid_blocks", "hold about " + formatCount(e.particles) + " particles, above the limit of " +
                                                formatCount(kMaxParticles) + hint);
@@ -165,13 +171,6 @@ void validate(const Scene& scene, const std::string& file) {
         if (b.muscles[o].name == b.muscles[m].name) fail(mp + ".name", "\"" + b.muscles[m].name + "\" is used twice in this body");
     }
   }
-  if (!sim.bodies.empty()) {
-    const std::vector<sim::BodyProblem> problems = sim::checkBodies(sim);
-    if (!problems.empty()) {
-      const sim::BodyProblem& p = problems.front();
-      fail("bodies[" + std::to_string(p.body) + "]" + (p.field.empty() ? "" : "." + p.field), p.message);
-    }
-  }
   const sim::TimeStepParams& ts = sim.timeStep;
   if (ts.minStep > ts.maxStep) fail("time_step.min_step", "must not exceed time_step.max_step");
   const render::Camera& cam = scene.render.camera;
@@ -225,7 +224,37 @@ SceneEstimate estimateScene(const Scene& scene) {
   for (int a = 0; a < 3; ++a)
     e.gridCells *= std::max(1.0, std::ceil((double(sim.container.max[a]) - sim.container.min[a]) / h));
   e.frames = std::floor(double(scene.output.duration) * scene.output.fps + 1e-6) + 1.0;
-  e.memoryBytes = e.particles * kBytesPerParticle + e.gridCells * 12.0;
+  double mostSprings = -1.0;
+  for (size_t b = 0; b < sim.bodies.size(); ++b) {
+    const sim::BodyParams& body = sim.bodies[b];
+    const double s = body.spacingMetres(sim.fluid.spacing);
+    const auto along = [s](double length) { return std::floor(std::max(length, 0.0) / s + 1e-4) + 1.0; };
+    double n = 0.0;
+    switch (body.shape) {
+      case sim::BodyShape::Box:
+        n = along(body.max.x() - body.min.x()) * along(body.max.y() - body.min.y()) * along(body.max.z() - body.min.z());
+        break;
+      case sim::BodyShape::Membrane:
+        n = along(body.max.x() - body.min.x()) * along(body.max.y() - body.min.y()) * std::max(body.layers, 1);
+        break;
+      case sim::BodyShape::Shell: {
+        const double outer = double(body.innerRadius) + body.layers * s + s;
+        const double cap = 2.0 * M_PI * outer * outer * (1.0 - std::cos(double(body.openingAngle) * M_PI / 180.0));
+        n = std::max(body.layers, 1) * (cap / (s * s) * 1.25 + 1.0);
+        break;
+      }
+      case sim::BodyShape::Chain: n = along((body.end - body.start).norm()); break;
+    }
+    const double reach = double(body.connectionRadius) * sim.fluid.spacing / s;  // h_spr in body spacings
+    const double springs = n * std::min(n, 4.0 / 3.0 * M_PI * reach * reach * reach) / 2.0;
+    e.bodyParticles += n;
+    e.springs += springs;
+    if (springs > mostSprings) {
+      mostSprings = springs;
+      e.mostSpringsBody = b;
+    }
+  }
+  e.memoryBytes = (e.particles + e.bodyParticles) * kBytesPerParticle + e.gridCells * 12.0 + e.springs * 32.0;
   return e;
 }
 
@@ -237,6 +266,14 @@ Scene parseScene(const nlohmann::json& document, const std::string& file, const 
   reader.finish();
   validate(scene, file);
   checkLimits(scene, file, options);
+  // Building the bodies to check them costs time and memory: only once the limits hold.
+  if (!scene.sim.bodies.empty()) {
+    const std::vector<sim::BodyProblem> problems = sim::checkBodies(scene.sim);
+    if (!problems.empty()) {
+      const sim::BodyProblem& p = problems.front();
+      throw SceneError(file, "bodies[" + std::to_string(p.body) + "]" + (p.field.empty() ? "" : "." + p.field), p.message);
+    }
+  }
   return scene;
 }
 

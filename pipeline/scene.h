@@ -169,7 +169,12 @@ struct SceneEstimate {
   double particles = 0;     // initial fluid particles (the fluid blocks; bodies and emitters not counted)
   double gridCells = 0;     // neighbour grid cells over the container (edge = the support radius)
   double frames = 0;        // output frames
-  double memoryBytes = 0;   // particles x kBytesPerParticle + cells x 12 B
+  double memoryBytes = 0;   // particles x kBytesPerParticle + cells x 12 B + springs x 32 B
+  // Bodies, from their shapes' extents before any is built (upper bounds): particles, and springs
+  // (each particle joined to those within its connection radius), and the body with most springs.
+  double bodyParticles = 0;
+  double springs = 0;
+  size_t mostSpringsBody = 0;
 };
 inline constexpr double kBytesPerParticle = 600.0;  // simulation arrays and neighbour lists
 SceneEstimate estimateScene(const Scene& scene);
@@ -182,6 +187,7 @@ inline constexpr double kMaxParticles = 50e6;   // soft
 inline constexpr double kMaxFrames = 100000;    // soft (about 70 minutes at 24 fps)
 inline constexpr double kMaxFramesHard = 1e7;   // even with --force
 inline constexpr double kMaxGridCells = 4e8;    // hard: the neighbour grid's own limit
+inline constexpr double kMaxSprings = 2e7;      // soft (about 10 s and 1 GB to build)
 // soft: memory above the machine's physical memory
 
 // Loads and validates a scene. Throws SceneError (file + JSON path) on any problem: unreadable

@@ -431,6 +431,16 @@ TEST(SceneLimits, AbsurdScenesAreRefusedWithTheEstimate) {
   nlohmann::json fine = tinyWith("/fluid/spacing", 0.01);
   expectSceneError(fine, "fluid_blocks", "2e+08 particles");
   EXPECT_NEAR(estimateScene(parseScene(fine, "edited.json", {true})).particles, 5.0 / 0.01 * 500 * 800, 2e6);
+  // A fine body with a wide connection radius: ~3e7 springs, refused before the bodies are built
+  // (building them took 2 minutes and several GB; found by the study fuzzer, tests/fuzz/README.md).
+  nlohmann::json body = tinyWith("/bodies", nlohmann::json::parse(
+      R"([{"name": "box", "shape": "box", "min": [6, 1, 1], "max": [9, 4, 4], "spacing": 0.15, "connection_radius": 2.4}])"));
+  expectSceneError(body, "bodies[0].spacing", "springs");
+  nlohmann::json coarse = body;
+  coarse["bodies"][0]["spacing"] = 0.5;
+  const SceneEstimate estimate = estimateScene(parseScene(coarse, "edited.json"));
+  EXPECT_EQ(estimate.bodyParticles, 7.0 * 7.0 * 7.0);  // 3 m at 0.5 m: 7 a side
+  EXPECT_EQ(estimate.springs, 343.0 * 343.0 / 2.0);    // every pair within 2.4 m at most
   // The tiny scene itself is well within.
   const SceneEstimate tiny = estimateScene(loadScene(kTinyScene));
   EXPECT_EQ(tiny.particles, 200.0);

@@ -60,7 +60,7 @@ std::vector<FarmChunk> frameChunks(int first, int last, int framesPerTask, int m
 
 std::string simScript(const FarmPlan& plan) {
   return header(plan, "sim", "sim-%j.out") + "exec " + shellWord(plan.kurage.string()) + " sim" + common(plan) +
-         " --frames " + std::to_string(plan.first) + "-" + std::to_string(plan.last) + " --task sim\n";
+         " --frames " + std::to_string(plan.first) + "-" + std::to_string(plan.last) + " --task sim --resume\n";
 }
 
 std::string framesScript(const FarmPlan& plan) {
