@@ -526,22 +526,40 @@ TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
   RecordProperty("submerged_fraction", std::to_string(fraction));
 }
 
-// DFSPH: sg 0.5 floats at 0.51; with sg 0.7 and 0.9 the stiff box (k = 10000) coupled to the
-// solver's velocity corrections became non-finite at t = 2.0 s and 11.2 s (the issue's bodies
-// under DFSPH are not done: docs/PHYSICS.md "Pressure solvers").
+// DFSPH: with the fluid's Jacobi relaxation the box's particles (half the fluid spacing, 8 times
+// the neighbours) made the iteration diverge and sg 0.7 and 0.9 became non-finite; the relaxation
+// now scales with the neighbour count (sim/solvers/dfsph.cpp).
 INSTANTIATE_TEST_SUITE_P(SpecificGravity, Archimedes,
                          ::testing::Values(std::make_tuple(0.5f, std::string("wcsph")),
                                            std::make_tuple(0.7f, std::string("wcsph")),
                                            std::make_tuple(0.9f, std::string("wcsph")),
-                                           std::make_tuple(0.5f, std::string("dfsph"))),
+                                           std::make_tuple(0.5f, std::string("dfsph")),
+                                           std::make_tuple(0.7f, std::string("dfsph")),
+                                           std::make_tuple(0.9f, std::string("dfsph"))),
                          [](const auto& info) {
                            return std::get<1>(info.param) + "_sg" +
                                   std::to_string(int(std::lround(std::get<0>(info.param) * 10)));
                          });
 
 // The paper's Fig. 3 with scenes/box.json: the state at the end of each phase of its force schedule.
-TEST(BoxSequence, FollowsThePaper) {
-  const pipeline::Scene scene = sceneFile("box.json");
+// The scene as written (the paper's WCSPH), or under DFSPH with boundary-particle walls and a
+// hydrostatic start: the telescopic bodies' tests run with both solvers (issue 13).
+class WithSolver : public ::testing::TestWithParam<std::string> {
+protected:
+  pipeline::Scene scene(const char* name) const {
+    pipeline::Scene s = sceneFile(name);
+    if (GetParam() == "dfsph") {
+      s.sim.fluid.solver = "dfsph";
+      s.sim.container.wallDensity = WallDensity::BoundaryParticles;
+      s.sim.fluid.initialState = InitialState::Hydrostatic;
+    }
+    return s;
+  }
+};
+
+using BoxSequence = WithSolver;
+TEST_P(BoxSequence, FollowsThePaper) {
+  const pipeline::Scene scene = this->scene("box.json");
   Simulation sim(scene.sim);
   const float l = scene.sim.fluid.spacing;
   auto state = [&](double t) {
@@ -552,7 +570,9 @@ TEST(BoxSequence, FollowsThePaper) {
   EXPECT_GT(floating, 0.5) << "floats";
   EXPECT_LT(floating, 0.9) << "floats";
   const auto [contracted, contractedBox] = state(14.0);
-  EXPECT_LT(contractedBox.min.z(), 1.0f * l) << "at the bottom under contraction";
+  // Boundary particles count in a body particle's density, so the box rests about a spacing
+  // above the floor instead of against it.
+  EXPECT_LT(contractedBox.min.z(), (GetParam() == "dfsph" ? 1.25f : 1.0f) * l) << "at the bottom under contraction";
   const auto [released, releasedBox] = state(22.0);
   EXPECT_GT(releasedBox.centre.z(), contractedBox.centre.z() + 0.8) << "risen after release";
   EXPECT_LT(released, 0.95) << "back at the surface after release";
@@ -565,10 +585,11 @@ TEST(BoxSequence, FollowsThePaper) {
 
 // The paper's Fig. 2: with the stretch-following density the membrane holds the poured fluid;
 // the conventional mass-spring model lets it slip through.
-TEST(Membrane, TelescopicDensityHoldsTheFluidTheConventionalModelLeaks) {
+using Membrane = WithSolver;
+TEST_P(Membrane, TelescopicDensityHoldsTheFluidTheConventionalModelLeaks) {
   std::map<bool, double> leaked;
   for (const bool telescopic : {true, false}) {
-    pipeline::Scene scene = sceneFile(telescopic ? "membrane.json" : "membrane_conventional.json");
+    pipeline::Scene scene = this->scene(telescopic ? "membrane.json" : "membrane_conventional.json");
     Simulation sim(scene.sim);
     sim.advanceTo(scene.output.duration);
     const ParticleSet& p = sim.particles();
@@ -585,6 +606,12 @@ TEST(Membrane, TelescopicDensityHoldsTheFluidTheConventionalModelLeaks) {
   EXPECT_LT(leaked[true], 0.1) << "telescopic density";
   EXPECT_GT(leaked[false], 0.5) << "conventional mass-spring model";
 }
+
+const auto kSolverName = [](const auto& info) { return info.param; };
+INSTANTIATE_TEST_SUITE_P(Solver, BoxSequence, ::testing::Values("wcsph", "dfsph"), kSolverName);
+// Under DFSPH the membrane, loaded by the emitter's fluid, still becomes non-finite at t = 5.8 s
+// (issue 13 open, docs/PHYSICS.md): WCSPH only.
+INSTANTIATE_TEST_SUITE_P(Solver, Membrane, ::testing::Values("wcsph"), kSolverName);
 
 TEST(Stages, OnlyWhatTheSceneCallsForRuns) {
   SimParams fluidOnly;

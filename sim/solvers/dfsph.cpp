@@ -17,7 +17,15 @@ constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constan
 DfsphSolver::DfsphSolver(const FluidParams& fluid)
     : kernel_(fluid.supportRadiusMetres()), form_(fluid.densitySum),
       maxDensityError_(0.01f * fluid.maxDensityError), maxDivergenceError_(0.01f * fluid.maxDivergenceError),
-      maxIterations_(fluid.maxIterations), maxDivergenceIterations_(fluid.maxDivergenceIterations) {}
+      maxIterations_(fluid.maxIterations), maxDivergenceIterations_(fluid.maxDivergenceIterations) {
+  // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l).
+  const int reach = int(std::ceil(fluid.supportRadius));
+  for (int a = -reach; a <= reach; ++a)
+    for (int b = -reach; b <= reach; ++b)
+      for (int c = -reach; c <= reach; ++c)
+        if ((a || b || c) && float(a * a + b * b + c * c) < fluid.supportRadius * fluid.supportRadius)
+          latticeNeighbours_ += 1.0f;
+}
 
 template <class F>
 double DfsphSolver::orderedSum(size_t count, F&& f) {
@@ -51,6 +59,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   const size_t n = p.size();
   invFactor_.resize(n);
   active_.resize(n);
+  relax_.resize(n);
   pi_.resize(n);
   change_.resize(n);
   rate_.resize(n);
@@ -84,6 +93,12 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       const float ref = p.mass[i] * dRef;
       invFactor_[i] = D > 1e-6f * ref * ref ? 1.0f / D : 0.0f;
       active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i;
+      // Jacobi's largest eigenvalue grows with the neighbour count: a body at half the fluid
+      // spacing has about 8 times the fluid's neighbours, and the iteration diverged there with
+      // the fluid's relaxation (bodies under DFSPH went non-finite). Scaled down where a particle
+      // has more neighbours than the fluid lattice.
+      const float count = float(c.neighbors.end(i) - c.neighbors.begin(i));
+      relax_[i] = kRelaxation * std::min(1.0f, latticeNeighbours_ / std::max(count, 1.0f));
     }
   });
   ++stats_.steps;
@@ -99,8 +114,8 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       // ways: a region that separates is drawn together as one that converges is pushed apart
       // (q < 0 where it separates); with only the compressing part, as in SPlisHSPlasH, a still
       // tank kept a bouncing mode that the constant-density solve, which never pulls, let grow.
-      const float d = active_[i] ? rate_[i] : 0.0f;
-      change_[i] = kRelaxation * d * invFactor_[i];
+      const float d = !active_[i] ? 0.0f : p.kind[i] == 0 ? rate_[i] : std::max(rate_[i], 0.0f);
+      change_[i] = relax_[i] * d * invFactor_[i];
       return double(std::fabs(d)) / p.restDensity[i];
     });
     error = sum / double(n) * c.lastStep;
@@ -197,7 +212,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     densityRate(c);
     const double sum = orderedSum(n, [&](size_t i) {
       const float e = p.density[i] + dt * rate_[i] - p.restDensity[i];  // rho*_i - rho0_i
-      const float next = std::max(0.0f, pi_[i] + kRelaxation * e * invDt2 * invFactor_[i]);
+      const float next = std::max(0.0f, pi_[i] + relax_[i] * e * invDt2 * invFactor_[i]);
       change_[i] = next - pi_[i];
       return double(std::max(e, 0.0f)) / p.restDensity[i];
     });
@@ -223,7 +238,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
 }
 
 size_t DfsphSolver::memoryBytes() const {
-  size_t b = (invFactor_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity()) *
+  size_t b = (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity()) *
              sizeof(float) + active_.capacity();
   for (const auto& g : gradients_) b += g.capacity() * sizeof(float);
   return b;

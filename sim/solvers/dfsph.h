@@ -94,6 +94,8 @@ private:
   std::vector<float> change_;                  // per iteration: the pi (or q) change
   std::vector<float> rate_;                    // Drho/Dt
   std::vector<uint8_t> active_;                // divergence solve: 1 where rho_i >= 0.9 rho0_i
+  std::vector<float> relax_;                   // per particle: the Jacobi relaxation
+  float latticeNeighbours_ = 0.0f;             // neighbours inside a full fluid lattice
   std::vector<double> partial_;                // per chunk sums
   std::vector<float> piById_;                  // warm start, by particle id
   SolverStats stats_;
