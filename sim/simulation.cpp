@@ -354,11 +354,7 @@ namespace {
 void setCflInputs(StepInputs& in, const SimParams& params, const PressureSolver& solver) {
   in.supportRadius = params.fluid.supportRadiusMetres();
   in.speedOfSound = solver.incompressible() ? 0.0f : params.fluid.speedOfSound();
-  // The smallest particle spacing in the scene: a body at half the fluid spacing must not move
-  // most of its own spacing in one step (a membrane under DFSPH blew up with the fluid's).
-  float spacing = params.fluid.spacing;
-  for (const BodyParams& b : params.bodies) spacing = std::min(spacing, b.spacingMetres(params.fluid.spacing));
-  in.cflLength = solver.incompressible() ? spacing : 0.0f;
+  in.cflLength = solver.incompressible() ? params.fluid.spacing : 0.0f;
 }
 
 StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, const BodySystem* bodies,

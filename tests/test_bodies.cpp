@@ -609,8 +609,8 @@ TEST_P(Membrane, TelescopicDensityHoldsTheFluidTheConventionalModelLeaks) {
 
 const auto kSolverName = [](const auto& info) { return info.param; };
 INSTANTIATE_TEST_SUITE_P(Solver, BoxSequence, ::testing::Values("wcsph", "dfsph"), kSolverName);
-// Under DFSPH the membrane, loaded by the emitter's fluid, still becomes non-finite at t = 5.8 s
-// (issue 13 open, docs/PHYSICS.md): WCSPH only.
+// Under DFSPH the membrane, loaded by the emitter's fluid, still becomes non-finite (issue 13
+// open, docs/PHYSICS.md): WCSPH only.
 INSTANTIATE_TEST_SUITE_P(Solver, Membrane, ::testing::Values("wcsph"), kSolverName);
 
 TEST(Stages, OnlyWhatTheSceneCallsForRuns) {
