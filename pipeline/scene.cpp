@@ -156,6 +156,22 @@ void validate(const Scene& scene, const std::string& file) {
     if (b.shape == sim::BodyShape::Shell && b.axis.norm() <= 0.0f) fail(path + ".axis", "must not be zero");
     if (b.shape == sim::BodyShape::Chain && (b.end - b.start).norm() <= 0.0f) fail(path + ".end", "must differ from start");
     if (b.shape != sim::BodyShape::Chain && !b.attachTo.empty()) fail(path + ".attach_to", "only a chain can be attached");
+    // The points that span the body, checked against the container before anything is built (a
+    // chain starting 100 km away kept the loader busy for minutes: found by the scene fuzzer).
+    const auto inside = [&box](const Eigen::Vector3f& q) {
+      return (q.array() >= box.min.array()).all() && (q.array() <= box.max.array()).all();
+    };
+    const auto outside = [&](const char* key, const Eigen::Vector3f& q) {
+      if (!inside(q)) fail(path + "." + key, vec(q) + " lies outside the container");
+    };
+    if (b.shape == sim::BodyShape::Box || b.shape == sim::BodyShape::Membrane) {
+      outside("min", b.min);
+      outside("max", b.max);
+    }
+    if (b.shape == sim::BodyShape::Chain) {
+      outside("start", b.start);
+      outside("end", b.end);
+    }
     for (size_t k = 0; k < b.pins.size(); ++k)
       if (b.pins[k].kind == sim::SelectionKind::Region && ((b.pins[k].max - b.pins[k].min).array() < 0.0f).any())
         fail(path + ".pins[" + std::to_string(k) + "].max", "must not be below min on any axis");

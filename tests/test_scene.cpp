@@ -105,7 +105,7 @@ const BadScene kBadScenes[] = {
     {"BodyYieldsNoParticle", [](json& s) { addBox(s)["max"] = {8.2, 3, 3}; }, "bodies[0]", "yields no particle"},
     {"BodyConnectionRadiusJoinsNone", [](json& s) { addBox(s)["connection_radius"] = 0.3; },
      "bodies[0].connection_radius", "joins no spring"},
-    {"BodyOutsideContainer", [](json& s) { addBox(s)["max"] = {10, 3, 12}; }, "bodies[0]", "outside the container"},
+    {"BodyOutsideContainer", [](json& s) { addBox(s)["max"] = {10, 3, 12}; }, "bodies[0].max", "lies outside the container"},
     {"BodiesOverlap", [](json& s) {
        addBox(s);
        json& b = addBox(s);
