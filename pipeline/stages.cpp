@@ -56,9 +56,9 @@ public:
   void start(const sim::Simulation& simulation) {
     const sim::ParticleSet& p = simulation.particles();
     walls_.clear();
-    for (const sim::BodyParams& body : scene_.sim.bodies)
-      walls_.push_back(body.shape == sim::BodyShape::Shell
-                           ? std::optional<ShellWall>(std::in_place, body, int(&body - scene_.sim.bodies.data() + 1), p,
+    for (size_t b = 0; b < scene_.sim.bodies.size(); ++b)
+      walls_.push_back(scene_.sim.bodies[b].shape == sim::BodyShape::Shell
+                           ? std::optional<ShellWall>(std::in_place, scene_.sim.bodies[b], int(b + 1), p,
                                                       scene_.sim.fluid.spacing)
                            : std::nullopt);
   }
@@ -117,7 +117,6 @@ public:
     if (scene_.sim.bodies.empty()) return;
     const sim::ParticleSet& p = simulation.particles();
     const size_t bodies = scene_.sim.bodies.size();
-    if (walls_.empty()) start(simulation);
     std::vector<Eigen::Vector3d> centre(bodies, Eigen::Vector3d::Zero());
     std::vector<double> count(bodies, 0.0), mass(bodies, 0.0), factor(bodies, 0.0);
     std::vector<float> fluidZ;

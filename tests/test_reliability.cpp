@@ -364,16 +364,9 @@ TEST(Interrupt, SigintStopsTheRunAndRunJsonSaysInterrupted) {
   TempDir dir;
   const fs::path out = dir.path() / "out";
   const fs::path log = dir.path() / "log.txt";
-  const std::string kurage = (test::binaryDir() / "kurage").string();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    ::execl(kurage.c_str(), kurage.c_str(), "run", kTinyScene.c_str(), "-o", out.c_str(), "--threads", "2", "--width",
-            "320", "--height", "240", "--spp", "64", "--no-video", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t pid = test::startKurage({"run", kTinyScene.string(), "-o", out.string(), "--threads", "2", "--width",
+                                       "320", "--height", "240", "--spp", "64", "--no-video"},
+                                      log);
   // Wait for the first frame, then interrupt: the remaining four take seconds.
   const auto start = std::chrono::steady_clock::now();
   while (!fs::exists(out / "frames/0000.png") && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))

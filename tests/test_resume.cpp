@@ -161,39 +161,17 @@ std::map<std::string, std::string> outputsOf(const fs::path& out) {
   return files;
 }
 
-pid_t startKurage(const std::vector<std::string>& args, const fs::path& log) {
-  const std::string kurage = (test::binaryDir() / "kurage").string();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    std::vector<char*> argv{const_cast<char*>(kurage.c_str())};
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(kurage.c_str(), argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-int waitFor(pid_t pid) {
-  int status = 0;
-  ::waitpid(pid, &status, 0);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-}
-
 TEST(Resume, SigtermWritesACheckpointAndTheResumedSimulationIsBitIdentical) {
   TempDir dir;
   const fs::path reference = dir.path() / "reference", out = dir.path() / "out", log = dir.path() / "log.txt";
   ASSERT_EQ(test::runKurage("sim " + kJellyfish.string() + " -o " + reference.string(), log), 0) << readText(log);
   // --checkpoint-every 0: the only checkpoint before the end is the one SIGTERM makes.
-  const pid_t pid = startKurage({"sim", kJellyfish.string(), "-o", out.string(), "--checkpoint-every", "0"}, log);
+  const pid_t pid = test::startKurage({"sim", kJellyfish.string(), "-o", out.string(), "--checkpoint-every", "0"}, log);
   const auto start = std::chrono::steady_clock::now();
   while (!fs::exists(out / "particles/0002.vdb") && std::chrono::steady_clock::now() - start < std::chrono::seconds(60))
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   ::kill(pid, SIGTERM);
-  const int code = waitFor(pid);
+  const int code = test::waitFor(pid);
   if (code == 0) GTEST_SKIP() << "the simulation finished before SIGTERM arrived";
   EXPECT_EQ(code, 128 + SIGTERM) << readText(log);
   EXPECT_EQ(nlohmann::json::parse(readText(out / "run.json"))["status"], "interrupted");
@@ -230,15 +208,15 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
   int killed = 0, duringWrites = 0;
   for (int k = 0; k < 20; ++k) {
     const fs::path trial = dir.path() / ("trial" + std::to_string(k));
-    const pid_t pid = startKurage(argsFor(trial), log);
+    const pid_t pid = test::startKurage(argsFor(trial), log);
     const double at = moment(rng);
     std::this_thread::sleep_for(std::chrono::duration<double>(at));
     ::kill(pid, SIGKILL);
-    if (waitFor(pid) == 128 + SIGKILL) ++killed;
+    if (test::waitFor(pid) == 128 + SIGKILL) ++killed;
     bool temporaries = false;
     for (const auto& entry : fs::recursive_directory_iterator(trial)) temporaries |= entry.path().extension() == ".tmp";
     duringWrites += temporaries;
-    ASSERT_EQ(waitFor(startKurage(argsFor(trial), log)), 0) << readText(log);
+    ASSERT_EQ(test::waitFor(test::startKurage(argsFor(trial), log)), 0) << readText(log);
     EXPECT_EQ(outputsOf(trial), expected) << "killed at " << at << " s";
     EXPECT_EQ(nlohmann::json::parse(readText(trial / "run.json"))["status"], "complete");
     for (const auto& entry : fs::recursive_directory_iterator(trial))
@@ -253,7 +231,7 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
   // movie are up to date.
   const fs::path again = dir.path() / "again.txt";
   const auto movieTime = fs::last_write_time(out / "tiny_jellyfish.mp4");
-  ASSERT_EQ(waitFor(startKurage(args, again)), 0) << readText(again);
+  ASSERT_EQ(test::waitFor(test::startKurage(args, again)), 0) << readText(again);
   EXPECT_NE(readText(again).find("resuming after frame 6"), std::string::npos) << readText(again);
   EXPECT_NE(readText(again).find("(up to date"), std::string::npos) << readText(again);
   EXPECT_EQ(fs::last_write_time(out / "tiny_jellyfish.mp4"), movieTime);

@@ -5,8 +5,11 @@
 
 #include <filesystem>
 #include <random>
-#include <sys/wait.h>
+#include <fcntl.h>
 #include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+#include <vector>
 
 namespace kurage::test {
 
@@ -44,6 +47,31 @@ inline int runKurage(const std::string& arguments, const std::filesystem::path& 
   const std::string command = (binaryDir() / "kurage").string() + " " + arguments + " > " + log.string() + " 2>&1";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Starts build/kurage with the given arguments in a child process, stdout and stderr appended
+// to `log`; returns its pid (for tests that signal it).
+inline pid_t startKurage(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  const std::string kurage = (binaryDir() / "kurage").string();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    ::dup2(fd, 1);
+    ::dup2(fd, 2);
+    std::vector<char*> argv{const_cast<char*>(kurage.c_str())};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(kurage.c_str(), argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+// Waits for a child: its exit code, or 128 + the signal that killed it.
+inline int waitFor(pid_t pid) {
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 }  // namespace kurage::test
