@@ -6,7 +6,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <optional>
-#include <spawn.h>
+#include <csignal>
+#include <sys/prctl.h>
 #include <stdexcept>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,24 +19,30 @@ namespace fs = std::filesystem;
 namespace {
 
 // Runs a program with arguments (no shell), its stdout and stderr captured together into
-// *output; returns its exit status, or -1 when it could not be run or was killed by a signal.
+// *output; returns its exit status (127: it could not be started), or -1 when no process could be
+// made or it was killed by a signal. It is killed if kurage dies first.
 int runProgram(const std::vector<std::string>& argv, std::string* output) {
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   int pipeFds[2];
   if (::pipe(pipeFds) != 0) return -1;
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addclose(&actions, pipeFds[0]);
-  posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDOUT_FILENO);
-  posix_spawn_file_actions_adddup2(&actions, pipeFds[1], STDERR_FILENO);
-  posix_spawn_file_actions_addclose(&actions, pipeFds[1]);
-  pid_t pid = 0;
-  const int spawned = posix_spawnp(&pid, args[0], &actions, nullptr, args.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t parent = ::getpid();
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    // The program dies with kurage: killed with SIGKILL mid-video, an orphaned ffmpeg went on and
+    // recreated its temporary after the next run had cleared the dead run's (tests/test_resume.cpp).
+    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (::getppid() != parent) ::_exit(127);
+    ::close(pipeFds[0]);
+    ::dup2(pipeFds[1], STDOUT_FILENO);
+    ::dup2(pipeFds[1], STDERR_FILENO);
+    ::close(pipeFds[1]);
+    ::execvp(args[0], args.data());
+    ::_exit(127);
+  }
   ::close(pipeFds[1]);
-  if (spawned != 0) {
+  if (pid < 0) {
     ::close(pipeFds[0]);
     return -1;
   }
