@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -151,6 +152,7 @@ ShellWall::ShellWall(const sim::BodyParams& shell, int kind, const sim::Particle
     int64_t id;
     int8_t layer;
     uint8_t margin;
+    Eigen::Vector3d at;
   };
   std::vector<Entry> entries;
   for (size_t i = 0; i < p.size(); ++i) {
@@ -159,14 +161,114 @@ ShellWall::ShellWall(const sim::BodyParams& shell, int kind, const sim::Particle
     const double r = d.norm();
     const int layer = std::clamp(int(std::lround((r - shell.innerRadius) / spacing_)), 0, layers_ - 1);
     const double polar = std::acos(std::clamp(d.dot(axis_) / std::max(r, 1e-12), -1.0, 1.0));
-    entries.push_back({p.id[i], int8_t(layer), uint8_t(polar >= rimPolar - 0.25 * spacing_ / shell.innerRadius)});
+    entries.push_back({p.id[i], int8_t(layer), uint8_t(polar >= rimPolar - 0.25 * spacing_ / shell.innerRadius),
+                       Eigen::Vector3d(p.x[i], p.y[i], p.z[i])});
   }
   std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) { return a.id < b.id; });
   for (const Entry& e : entries) {
     sortedIds_.push_back(e.id);
     layer_.push_back(e.layer);
     margin_.push_back(e.margin);
+    built_.push_back(e.at);
   }
+}
+
+double ShellWall::apexHeight(const sim::ParticleSet& p) const {
+  double top = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == kind_) top = std::max(top, double(p.z[i]));
+  return top;
+}
+
+ShellWall::Shape ShellWall::shape(const sim::ParticleSet& p) const {
+  Eigen::Vector3d margin = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> points;
+  size_t n = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] != kind_) continue;
+    points.emplace_back(p.x[i], p.y[i], p.z[i]);
+    const int k = indexOf(p.id[i]);
+    if (k < 0 || !margin_[size_t(k)]) continue;
+    margin += points.back();
+    ++n;
+  }
+  Shape s;
+  if (n == 0) return s;
+  margin /= double(n);
+  Eigen::Vector3d axis = centre(p) - margin;
+  axis = axis.norm() > 0.0 ? Eigen::Vector3d(axis.normalized()) : axis_;
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo, wide = 0.0;
+  for (const Eigen::Vector3d& x : points) {
+    const Eigen::Vector3d d = x - margin;
+    const double along = d.dot(axis);
+    lo = std::min(lo, along);
+    hi = std::max(hi, along);
+    wide = std::max(wide, (d - along * axis).norm());
+  }
+  s.height = hi - lo;
+  s.diameter = 2.0 * wide;
+  return s;
+}
+
+double ShellWall::closestUnjoinedPair(const sim::ParticleSet& p, double joinedWithin) const {
+  std::vector<std::pair<size_t, Eigen::Vector3d>> now;  // (position in sortedIds_, position)
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] != kind_) continue;
+    const int k = indexOf(p.id[i]);
+    if (k >= 0) now.emplace_back(size_t(k), Eigen::Vector3d(p.x[i], p.y[i], p.z[i]));
+  }
+  double closest = std::numeric_limits<double>::infinity();
+  const double joined2 = joinedWithin * joinedWithin;
+  for (size_t a = 0; a < now.size(); ++a)
+    for (size_t b = a + 1; b < now.size(); ++b) {
+      if ((built_[now[a].first] - built_[now[b].first]).squaredNorm() < joined2) continue;
+      closest = std::min(closest, (now[a].second - now[b].second).norm());
+    }
+  return closest;
+}
+
+namespace {
+// Distance between the segments [p0, p1] and [q0, q1] (clamped closest points; Ericson 2005, 5.1.9).
+double segmentDistance(const Eigen::Vector3d& p0, const Eigen::Vector3d& p1, const Eigen::Vector3d& q0,
+                       const Eigen::Vector3d& q1) {
+  const Eigen::Vector3d d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  double s = 0.0, t = 0.0;
+  if (a <= 1e-18 && e <= 1e-18) return r.norm();
+  if (a <= 1e-18) {
+    t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    const double c = d1.dot(r);
+    if (e <= 1e-18) {
+      s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      const double b = d1.dot(d2), denom = a * e - b * b;
+      s = denom > 1e-18 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0.0) {
+        t = 0.0;
+        s = std::clamp(-c / a, 0.0, 1.0);
+      } else if (t > 1.0) {
+        t = 1.0;
+        s = std::clamp((b - c) / a, 0.0, 1.0);
+      }
+    }
+  }
+  return ((p0 + s * d1) - (q0 + t * d2)).norm();
+}
+}  // namespace
+
+double chainSelfApproach(const sim::ParticleSet& p, int kind) {
+  std::vector<std::pair<int64_t, Eigen::Vector3d>> chain;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == kind) chain.emplace_back(p.id[i], Eigen::Vector3d(p.x[i], p.y[i], p.z[i]));
+  std::sort(chain.begin(), chain.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  double closest = std::numeric_limits<double>::infinity();
+  for (size_t a = 0; a + 1 < chain.size(); ++a)
+    for (size_t b = a + 2; b + 1 < chain.size(); ++b)
+      closest = std::min(closest, segmentDistance(chain[a].second, chain[a + 1].second, chain[b].second,
+                                                  chain[b + 1].second));
+  return closest;
 }
 
 int ShellWall::indexOf(int64_t id) const {

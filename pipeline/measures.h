@@ -109,6 +109,11 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 // The bell's particles as built (t = 0), tracked by id: the wall layer of each (0 = innermost,
 // from its distance to the shell's centre) and the margin (the last ring of latitude of every
 // layer, polar angle within a quarter spacing of the opening angle).
+// The smallest distance between two segments of a chain (an oral arm: body `kind`'s particles
+// in id order) that share no particle: a chain that crosses or knots itself brings two such
+// segments within a particle spacing. Infinity for fewer than four particles.
+double chainSelfApproach(const sim::ParticleSet& particles, int kind);
+
 class ShellWall {
 public:
   // `initial`: the particles at t = 0; `kind` = the shell's body index + 1.
@@ -129,8 +134,22 @@ public:
   double tiltDegrees(const sim::ParticleSet& particles, const Eigen::Vector3d& reference) const;
   // Centre of mass of the bell (its parts may be heavier), m.
   Eigen::Vector3d centre(const sim::ParticleSet& particles) const;
+  // Height of the bell's highest particle (its apex when upright), m.
+  double apexHeight(const sim::ParticleSet& particles) const;
+  // The bell's shape along its own current axis (from the margin's centroid to the centre of
+  // mass): height, the extent of its particles along the axis; diameter, twice the largest
+  // distance of a particle from the axis (the outer layer's margin on a bell at rest), m.
+  struct Shape {
+    double height = 0.0, diameter = 0.0;
+  };
+  Shape shape(const sim::ParticleSet& particles) const;
+  // The closest approach of two bell particles that were farther apart than `joinedWithin` as
+  // built (so no spring joins them: pass the body's connection radius in metres), m. A shell
+  // that folds through itself brings such a pair within a body spacing.
+  double closestUnjoinedPair(const sim::ParticleSet& particles, double joinedWithin) const;
 
 private:
+  std::vector<Eigen::Vector3d> built_;  // positions as built, by position in sortedIds_
   int kind_ = 1;
   int layers_ = 1;
   float spacing_ = 0.5f;  // body spacing, m

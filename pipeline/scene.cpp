@@ -27,6 +27,7 @@ void applyQuality(Scene& scene, Quality quality) {
   r.maxDepth = q.maxDepth > 0 ? q.maxDepth : std::min(r.maxDepth, 6);
   scene.surface.fluid.voxelSize *= q.voxelScale;
   scene.surface.bodies.voxelSize *= q.voxelScale;
+  if (q.fps > 0.0f) scene.output.fps = q.fps;
 }
 
 namespace {

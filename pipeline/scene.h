@@ -146,6 +146,7 @@ struct PreviewQuality {
   int samples = 0;          // 0 = a quarter of the render samples, at least 1
   int maxDepth = 0;         // 0 = the render's max_depth, at most 6
   float voxelScale = 2.0f;  // surface voxel sizes (fluid and bodies) times this
+  float fps = 0.0f;         // frames per second of the whole run (sim included); 0 = output.fps
 };
 
 enum class Quality { Final, Preview };

@@ -182,6 +182,15 @@ void describe(V& v, sim::MuscleParams& p) {
           {"", "righting reflex gain (ours, after a medusa's statocysts): each spring's force is scaled by 1 - gain h, "
                "h its ends' height above the ring's centre across the body's axis over the ring's radius, so a tilted "
                "body contracts its lower side harder (0 = off)", between(0.0, 100.0)});
+  v.value("ceiling", p.ceiling,
+          {"m", "depth reflex (ours, a medusa's gravity sense): the force fades linearly to zero as the body's centroid "
+                "rises through the ceiling_band below this height (measured against gravity)", anyValue()});
+  v.value("ceiling_band", p.ceilingBand,
+          {"m", "depth reflex: the height over which the force fades below the ceiling (0 = no depth reflex)",
+           nonNegative()});
+  v.value("ceiling_lead", p.ceilingLead,
+          {"s", "depth reflex: it acts on the centroid's height this far ahead at its present vertical speed "
+                "(z + lead v), so that a fast climb eases off early (0 = the height now)", between(0.0, 100.0)});
 }
 
 template <class V>
@@ -218,6 +227,10 @@ void describe(V& v, sim::BodyParams& p) {
           {"l_avr", "h_spr: every pair closer than this at t = 0 is joined by a spring (paper: 2.1, 2.4, 4.1)", positive()});
   v.value("telescopic_density", p.telescopicDensity,
           {"", "rest density follows stretch, (8)-(10); false = the paper's conventional mass-spring model"});
+  v.value("bending", p.bending,
+          {"N/m", "chain: bending stiffness (ours): each particle is pulled toward the line through its two neighbours "
+                  "with bending x (x_prev - 2 x + x_next), the neighbours take the reaction (0 = off, the paper's chains)",
+           nonNegative()});
   v.value("rim_width", p.rimWidth, {"spacings", "width of the 'rim' selection band", positive()});
   v.list("pins", p.pins, {"", "particles held fixed in space ('rim' or a region)"});
   v.value("hold_until", p.holdUntil,
@@ -528,6 +541,9 @@ void describe(V& v, PreviewQuality& p) {
                                     between(0, 1024)});
   v.value("voxel_scale", p.voxelScale, {"", "surface voxel sizes (fluid and bodies) are multiplied by this",
                                         between(1.0, 8.0)});
+  v.value("fps", p.fps,
+          {"1/s", "frames per second of a preview run (its simulation caches, surfaces and frames are at this rate: "
+                  "fewer frames to surface and render); 0 = output.fps", between(0.0, 1000.0)});
 }
 
 template <class V>

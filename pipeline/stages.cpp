@@ -78,6 +78,8 @@ public:
       out.array(r.margins);
       out.array(std::vector<uint64_t>(r.inWall.begin(), r.inWall.end()));
       out.array(r.tilts);
+      out.array(r.apexes);
+      out.array(r.widths);
     }
     return out.take();
   }
@@ -108,6 +110,8 @@ public:
       in.arrayOf(inWall, shells);
       r.inWall.assign(inWall.begin(), inWall.end());
       in.arrayOf(r.tilts, shells);
+      in.arrayOf(r.apexes, shells);
+      in.arrayOf(r.widths, shells);
     }
     if (!in.done()) throw sim::StateError("checkpoint state: bytes left over after the body records");
     rows_ = std::move(rows);
@@ -146,10 +150,16 @@ public:
         row.margins.push_back(walls_[b]->marginRadius(p));
         row.tilts.push_back(walls_[b]->tiltDegrees(p));
         row.inWall.push_back(walls_[b]->fluidInsideWall(p));
+        row.apexes.push_back(walls_[b]->apexHeight(p));
+        row.widths.push_back(walls_[b]->shape(p).diameter);
       }
     }
+    // The force as applied in the last step (a depth reflex scales the curve's).
+    size_t muscle = 0;
     for (const sim::BodyParams& b : scene_.sim.bodies)
-      for (const sim::MuscleParams& m : b.muscles) row.forces.push_back(m.force.at(row.time));
+      for (size_t m = 0; m < b.muscles.size(); ++m, ++muscle)
+        row.forces.push_back(simulation.time() > 0.0 ? simulation.bodies()->appliedMuscleForce(muscle)
+                                                     : b.muscles[m].force.at(row.time));
     rows_.push_back(std::move(row));
   }
 
@@ -169,10 +179,42 @@ public:
         mostAt = r.time;
       }
     }
-    return {{"margin_radius_at_rest_m", rows_.front().margins[k]},
-            {"margin_radius_min_m", smallest},
-            {"fluid_inside_wall_max", most},
-            {"fluid_inside_wall_max_at_s", mostAt}};
+    nlohmann::json summary = {{"margin_radius_at_rest_m", rows_.front().margins[k]},
+                              {"margin_radius_min_m", smallest},
+                              {"fluid_inside_wall_max", most},
+                              {"fluid_inside_wall_max_at_s", mostAt},
+                              {"diameter_at_rest_m", rows_.front().widths[k]},
+                              {"apex_height_at_rest_m", rows_.front().apexes[k]}};
+    if (nlohmann::json swim = swimSummary(body, k); !swim.is_null()) summary["swim"] = std::move(swim);
+    return summary;
+  }
+
+  // The swimming speed of a shell with a pulsed muscle (its first), in bell diameters per pulse:
+  // the net rise of its apex from the first pulse's start to the end of its tenth period (or of
+  // the last whole period recorded), over the pulses, over the diameter at rest.
+  nlohmann::json swimSummary(size_t body, size_t k) const {
+    const sim::ForceCurve* pulse = nullptr;
+    for (const sim::MuscleParams& m : scene_.sim.bodies[body].muscles)
+      if (m.force.type == sim::CurveType::Pulse && !pulse) pulse = &m.force;
+    if (!pulse || !(pulse->period > 0.0f)) return nullptr;
+    auto rowAt = [&](double t) {
+      return std::min_element(rows_.begin(), rows_.end(), [&](const Row& a, const Row& b) {
+        return std::abs(a.time - t) < std::abs(b.time - t);
+      });
+    };
+    const double start = pulse->start, last = rows_.back().time;
+    int pulses = 0;
+    while (pulses < 10 && start + (pulses + 1) * double(pulse->period) <= last + 1e-9 &&
+           start + pulses * double(pulse->period) < double(pulse->end))
+      ++pulses;
+    if (pulses == 0) return nullptr;
+    const double rise = rowAt(start + pulses * double(pulse->period))->apexes[k] - rowAt(start)->apexes[k];
+    const double diameter = rows_.front().widths[k];
+    return {{"pulses", pulses},
+            {"apex_rise_m", rise},
+            {"bell_diameters_per_pulse", diameter > 0.0 ? rise / pulses / diameter : 0.0},
+            {"note", "net rise of the bell's apex from the first pulse's start over the first pulses (at most 10), "
+                     "per pulse, in bell diameters at rest"}};
   }
 
   void write(const fs::path& outDir) const {
@@ -184,7 +226,9 @@ public:
     for (const sim::BodyParams& b : scene_.sim.bodies)
       for (const sim::MuscleParams& m : b.muscles) csv << "," << b.name << "_" << m.name << "_force_N";
     for (const sim::BodyParams& b : scene_.sim.bodies)
-      if (b.shape == sim::BodyShape::Shell) csv << "," << b.name << "_margin_radius_m," << b.name << "_fluid_in_wall," << b.name << "_tilt_deg";
+      if (b.shape == sim::BodyShape::Shell)
+        csv << "," << b.name << "_margin_radius_m," << b.name << "_fluid_in_wall," << b.name << "_tilt_deg," << b.name
+            << "_apex_z_m," << b.name << "_diameter_m";
     csv << "\n";
     for (const Row& r : rows_) {
       csv << r.time << "," << r.surface;
@@ -192,7 +236,8 @@ public:
         csv << "," << r.centres[b].x() << "," << r.centres[b].y() << "," << r.centres[b].z() << ","
             << r.surface - r.centres[b].z() << "," << r.factors[b];
       for (double f : r.forces) csv << "," << f;
-      for (size_t k = 0; k < r.margins.size(); ++k) csv << "," << r.margins[k] << "," << r.inWall[k] << "," << r.tilts[k];
+      for (size_t k = 0; k < r.margins.size(); ++k)
+        csv << "," << r.margins[k] << "," << r.inWall[k] << "," << r.tilts[k] << "," << r.apexes[k] << "," << r.widths[k];
       csv << "\n";
     }
     writeTextAtomic(outDir / "bodies.csv", csv.str());
@@ -242,6 +287,8 @@ private:
     std::vector<double> margins;  // per shell body: margin radius (m)
     std::vector<size_t> inWall;   // per shell body: fluid particles inside its wall
     std::vector<double> tilts;    // per shell body: tilt from its axis as built (degrees)
+    std::vector<double> apexes;   // per shell body: height of its highest particle (m)
+    std::vector<double> widths;   // per shell body: its diameter (ShellWall::shape, m)
   };
   const Scene& scene_;
   std::vector<std::optional<ShellWall>> walls_;  // per body; shells only

@@ -242,8 +242,11 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
         pinnedAt_.push_back(q);
       }
     }
+    if (body.shape == BodyShape::Chain && body.bending > 0.0f)
+      for (int64_t k = 1; k + 1 < int64_t(pts.positions.size()); ++k)
+        bends_.push_back({built.firstId[b] + k - 1, built.firstId[b] + k, built.firstId[b] + k + 1, body.bending});
     for (const MuscleParams& m : body.muscles)
-      muscles_.push_back({m.force, m.righting, built.firstId[b], int64_t(pts.positions.size()), {}});
+      muscles_.push_back({m.force, m.righting, m.ceiling, m.ceilingBand, m.ceilingLead, built.firstId[b], int64_t(pts.positions.size()), {}});
     meanGravity_.push_back(pts.positions.empty() ? body.specificGravity : float(gravitySum / double(pts.positions.size())));
   }
   muscleForces_.assign(muscles_.size(), 0.0f);
@@ -273,6 +276,9 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
       k += groups_[s->group].stiffness;
       if (!groups_[s->group].implicitDamper) d += groups_[s->group].damping;
     }
+    // The bending term's stiffness matrix is k_b / 2 D^T D (D the second difference, |D^T D| <= 16).
+    for (const Bend& bend : bends_)
+      if (bend.prev == int64_t(id) || bend.mid == int64_t(id) || bend.next == int64_t(id)) k += 8.0 * bend.stiffness / 3.0;
     const double m = particleMass_[id];
     double step = std::numeric_limits<double>::infinity();
     if (k > 0.0) step = std::min(step, std::sqrt(2.0 * m / k));
@@ -312,12 +318,34 @@ void BodySystem::updateRestDensity(ParticleSet& p) {
 
 void BodySystem::addSpringForces(ParticleSet& p, float dt) {
   addSpringAccelerations(springs_, groups_, dt, p, indexOfId_, predicted_);
+  // Chains' bending (serial: a few hundred particles at most, in a fixed order).
+  for (const Bend& bend : bends_) {
+    const size_t a = indexOfId_[size_t(bend.prev)], i = indexOfId_[size_t(bend.mid)], c = indexOfId_[size_t(bend.next)];
+    const Eigen::Vector3f L(p.x[a] - 2.0f * p.x[i] + p.x[c], p.y[a] - 2.0f * p.y[i] + p.y[c],
+                            p.z[a] - 2.0f * p.z[i] + p.z[c]);
+    const Eigen::Vector3f f = bend.stiffness * L;
+    p.ax[i] += f.x() / p.mass[i]; p.ay[i] += f.y() / p.mass[i]; p.az[i] += f.z() / p.mass[i];
+    p.ax[a] -= 0.5f * f.x() / p.mass[a]; p.ay[a] -= 0.5f * f.y() / p.mass[a]; p.az[a] -= 0.5f * f.z() / p.mass[a];
+    p.ax[c] -= 0.5f * f.x() / p.mass[c]; p.ay[c] -= 0.5f * f.y() / p.mass[c]; p.az[c] -= 0.5f * f.z() / p.mass[c];
+  }
 }
 
 void BodySystem::addMuscleForces(ParticleSet& p, double t) {
   bool any = false;
   for (size_t m = 0; m < muscles_.size(); ++m) {
     muscleForces_[m] = muscles_[m].force.at(t);
+    if (muscleForces_[m] != 0.0f && muscles_[m].ceilingBand > 0.0f) {
+      // The depth reflex: the body's centroid height against gravity, in id order (deterministic).
+      const Muscle& muscle = muscles_[m];
+      double z = 0.0, v = 0.0;
+      for (int64_t id = muscle.firstId; id < muscle.firstId + muscle.idCount; ++id) {
+        const size_t i = indexOfId_[size_t(id)];
+        z += double(p.x[i]) * up_.x() + double(p.y[i]) * up_.y() + double(p.z[i]) * up_.z();
+        v += double(p.vx[i]) * up_.x() + double(p.vy[i]) * up_.y() + double(p.vz[i]) * up_.z();
+      }
+      const double n = double(std::max<int64_t>(1, muscle.idCount));
+      muscleForces_[m] *= ceilingFactor(muscle.ceiling, muscle.ceilingBand, (z + double(muscle.ceilingLead) * v) / n);
+    }
     any = any || muscleForces_[m] != 0.0f;
   }
   if (!any) return;

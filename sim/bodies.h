@@ -69,6 +69,9 @@ public:
   float springStep() const { return springStep_; }
   bool hasTelescopicDensity() const { return telescopic_; }
   bool hasMuscles() const { return !muscles_.empty(); }
+  // Force per spring of muscle m (scene order over all bodies) as last applied: its curve at the
+  // step's time times its depth reflex's factor (0 before the first step), N.
+  float appliedMuscleForce(size_t m) const { return m < muscleForces_.size() ? muscleForces_[m] : 0.0f; }
   // Pinned particles or bodies held until a time (hold_until).
   bool hasPins() const { return !pinnedIds_.empty(); }
   const BodyStats& stats() const { return stats_; }
@@ -97,6 +100,7 @@ private:
   struct Muscle {
     ForceCurve force;
     float righting = 0.0f;
+    float ceiling = 0.0f, ceilingBand = 0.0f, ceilingLead = 0.0f;
     int64_t firstId = 0, idCount = 0;  // its body's ids
     std::vector<int64_t> ring;          // ids of the particles its springs join
   };
@@ -109,6 +113,11 @@ private:
   std::vector<SpringGroup> groups_;        // per body
   SpringNetwork springs_;
   std::vector<Muscle> muscles_;
+  struct Bend {
+    int64_t prev, mid, next;  // ids of three consecutive chain particles
+    float stiffness;          // k_b, N/m
+  };
+  std::vector<Bend> bends_;
   std::vector<float> muscleForces_;
   std::vector<std::vector<float>> muscleWeights_;  // per muscle: per id (righting muscles only)
   std::vector<const float*> weightPointers_;       // per muscle: muscleWeights_ data or null

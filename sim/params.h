@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -189,7 +190,21 @@ struct MuscleParams {
   // ring's radius (h = -sin(tilt) on the lowest side of a tilted ring, 0 all round when level), so a
   // tilted body contracts its lower side harder. 0 = off.
   float righting = 0.0f;
+  // Depth reflex (ours, a medusa's gravity sense keeping it below the surface): the force fades
+  // linearly to zero as the body's centroid rises from `ceiling - ceilingBand` to `ceiling` (height
+  // against gravity, m). Off when ceilingBand is 0.
+  float ceiling = 0.0f;
+  float ceilingBand = 0.0f;
+  // The reflex anticipates: it acts on the height the centroid will reach in this many seconds at
+  // its present vertical speed (z + lead v), so that a bell climbing fast eases off early.
+  float ceilingLead = 0.0f;
 };
+
+// The depth reflex's factor at a centroid height z: 1 below the band, 0 above the ceiling.
+inline float ceilingFactor(float ceiling, float band, double z) {
+  if (!(band > 0.0f)) return 1.0f;
+  return float(std::clamp((double(ceiling) - z) / double(band), 0.0, 1.0));
+}
 
 enum class Damper {
   Implicit,  // (7)'s damper on the relative velocity along each spring, solved exactly per spring (any step)
@@ -216,6 +231,10 @@ struct BodyParams {
   float connectionRadius = 2.1f;    // h_spr / l_avr
   Damper damper = Damper::Implicit;
   bool telescopicDensity = true;    // (8)-(10); false = the paper's "conventional mass-spring model"
+  // Chain: bending stiffness k_b (ours, N/m): each inner particle i feels k_b L_i and its two
+  // neighbours -k_b L_i / 2 each, L_i = x_{i-1} - 2 x_i + x_{i+1} (the gradient of the energy
+  // k_b / 4 sum |L_i|^2, zero on a straight chain; momentum-conserving). 0 = off (the paper).
+  float bending = 0.0f;
   float rimWidth = 1.0f;            // rim band width in body spacings
   std::vector<Selection> pins;      // particles held fixed in space
   float holdUntil = 0.0f;           // s: the whole body is held where it was built until then

@@ -446,6 +446,106 @@ TEST(Muscles, RightingReflexContractsTheLowerSideOfATiltedRingHarder) {
   EXPECT_NEAR(levelHigh, levelPlainHigh, 1e-3 * levelPlainHigh);
 }
 
+TEST(Muscles, DepthReflexFadesTheForceThroughTheBandBelowTheCeiling) {
+  // The scene's reflex (ceiling 16 m, band 4 m) on a bell whose centroid is at 5 m (the shell's
+  // centre 3 m lower), then lifted: full force below 12 m, half at 14 m, none above 16 m.
+  EXPECT_EQ(ceilingFactor(16.0f, 4.0f, 11.0), 1.0f);
+  EXPECT_FLOAT_EQ(ceilingFactor(16.0f, 4.0f, 14.0), 0.5f);
+  EXPECT_EQ(ceilingFactor(16.0f, 4.0f, 17.0), 0.0f);
+  EXPECT_EQ(ceilingFactor(16.0f, 0.0f, 17.0), 1.0f) << "band 0: no reflex";
+  auto totalForce = [](float lift) {
+    SimParams world = emptyWorld();
+    world.gravity = Eigen::Vector3f(0, 0, -6);
+    world.container.max = Eigen::Vector3f(12, 12, 30);
+    BodyParams bell = shellBody(Eigen::Vector3f(6, 6, 3.0f + lift), Eigen::Vector3f::UnitZ());
+    MuscleParams ring;
+    ring.springs.kind = SelectionKind::Rim;
+    ring.force.keys = {{0.0f, 100.0f}};
+    ring.ceiling = 16.0f;
+    ring.ceilingBand = 4.0f;
+    bell.muscles.push_back(ring);
+    world.bodies.push_back(bell);
+    ParticleSet p;
+    int64_t nextId = 0;
+    BodySystem bodies(world, p, nextId);
+    bodies.index(p);
+    std::fill(p.ax.begin(), p.ax.end(), 0.0f);
+    std::fill(p.ay.begin(), p.ay.end(), 0.0f);
+    std::fill(p.az.begin(), p.az.end(), 0.0f);
+    double centroid = 0.0, force = 0.0;
+    bodies.addMuscleForces(p, 0.0);
+    for (size_t i = 0; i < p.size(); ++i) {
+      centroid += p.z[i] / double(p.size());
+      force += p.mass[i] * Eigen::Vector3d(p.ax[i], p.ay[i], p.az[i]).norm();
+    }
+    return std::make_pair(centroid, force);
+  };
+  const auto [low, full] = totalForce(0.0f);
+  ASSERT_LT(low, 12.0);
+  ASSERT_GT(full, 0.0);
+  const auto [mid, half] = totalForce(float(14.0 - low));
+  EXPECT_NEAR(mid, 14.0, 1e-3);
+  EXPECT_NEAR(half / full, 0.5, 1e-3);
+  const auto [high, none] = totalForce(float(16.5 - low));
+  EXPECT_EQ(none, 0.0);
+}
+
+TEST(Chains, BendingStraightensABentChainAndConservesMomentum) {
+  // A five-particle chain bent 60 degrees at its middle particle, no gravity, no fluid: with a
+  // bending stiffness it swings through straight (the smallest angle between its end segments
+  // over 3 s; nothing damps a bend in a vacuum) while its total momentum stays zero; without,
+  // its springs (first neighbours only) leave the bend.
+  auto bendAfter = [](float bending, double* momentum) {
+    SimParams world = emptyWorld();
+    BodyParams chain;
+    chain.name = "arm";
+    chain.shape = BodyShape::Chain;
+    chain.start = Eigen::Vector3f(6, 6, 6);
+    chain.end = Eigen::Vector3f(6, 6, 8);
+    chain.spacing = 0.5f;
+    chain.connectionRadius = 0.6f;  // first neighbours only
+    chain.stiffness = 500.0f;
+    chain.damping = 10.0f;
+    chain.bending = bending;
+    world.bodies.push_back(chain);
+    Simulation sim(world);
+    // Bend: rotate the upper half about the middle particle by 60 degrees about y.
+    ParticleSet& p = sim.particles();
+    const float c = std::cos(1.0472f), s = std::sin(1.0472f);
+    for (size_t i = 0; i < p.size(); ++i)
+      if (p.z[i] > 7.01f) {
+        const float dx = p.x[i] - 6.0f, dz = p.z[i] - 7.0f;
+        p.x[i] = 6.0f + c * dx + s * dz;
+        p.z[i] = 7.0f - s * dx + c * dz;
+      }
+    double smallest = 180.0;
+    *momentum = 0.0;
+    for (int n = 1; n <= 300; ++n) {
+      sim.advanceTo(0.01 * n);
+      const ParticleSet& r = sim.particles();
+      std::vector<std::pair<int64_t, Eigen::Vector3d>> q;
+      Eigen::Vector3d m = Eigen::Vector3d::Zero();
+      for (size_t i = 0; i < r.size(); ++i) {
+        q.emplace_back(r.id[i], Eigen::Vector3d(r.x[i], r.y[i], r.z[i]));
+        m += r.mass[i] * Eigen::Vector3d(r.vx[i], r.vy[i], r.vz[i]);
+      }
+      *momentum = std::max(*momentum, m.norm());
+      std::sort(q.begin(), q.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+      const Eigen::Vector3d first = (q[1].second - q[0].second).normalized();
+      const Eigen::Vector3d last = (q[q.size() - 1].second - q[q.size() - 2].second).normalized();
+      smallest = std::min(smallest, std::acos(std::clamp(first.dot(last), -1.0, 1.0)) * 180.0 / 3.14159265358979);
+    }
+    return smallest;
+  };
+  double momentumBent = 0.0, momentumPlain = 0.0;
+  const double bent = bendAfter(20000.0f, &momentumBent), plain = bendAfter(0.0f, &momentumPlain);
+  std::printf("smallest angle between end segments over 3 s: %.1f deg with bending, %.1f deg without; "
+              "largest momentum %.3g kg m/s\n", bent, plain, momentumBent);
+  EXPECT_LT(bent, 10.0);
+  EXPECT_GT(plain, 45.0);
+  EXPECT_LT(momentumBent, 1e-2 * 62.5);  // one particle's mass times 1 cm/s
+}
+
 TEST(Collisions, FluidContactKeepsAFastFluidParticleOutOfAMembrane) {
   // One fluid particle shot at 40 m/s down onto a held one-layer membrane. The SPH pressure of a
   // lone particle is clamped at zero, so without the fluid contact it passes straight through.

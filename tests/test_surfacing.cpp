@@ -651,16 +651,17 @@ double surfaceRoughness(const LevelSet& ls) {
 }
 
 TEST(ThinBodies, StillWaterSurfaceIsFlatToAQuarterSpacing) {
-  // The jellyfish scene's fluid field (R = 2 spacings, T = 0.5) with anisotropic kernels smoothed
-  // as Yu & Turk do (neighbourhood 1.5 R = 3 spacings, lambda = 0.9) on still water: a lattice,
+  // The jellyfish scene's fluid field (R = 2 m, T = 0.5: 2 spacings of this test's 1 m lattice)
+  // with anisotropic kernels smoothed as Yu & Turk do (neighbourhood 1.5 R = 3 m, lambda = 0.9)
+  // on still water: a lattice,
   // and the lattice with every particle moved by up to +-0.1 and +-0.2 spacings. The spheres'
   // surface follows the highest particles (0.33 m of lumps at +-0.2); the ellipsoids do not.
   const pipeline::Scene scene = pipeline::loadScene(std::string(KURAGE_SOURCE_DIR) + "/scenes/jellyfish.json");
   MetaballParams params = scene.surface.fluid;
   params.anisotropy.neighbourRadius = 1.5f;
   params.anisotropy.smoothing = 0.9f;
-  const float spacing = scene.sim.fluid.spacing;
-  ASSERT_EQ(spacing, 1.0f);
+  const float spacing = 1.0f;  // stillWater's lattice
+  ASSERT_EQ(params.radius, 2.0f);
   for (const float jitter : {0.0f, 0.1f, 0.2f}) {
     const std::vector<Eigen::Vector3f> water = stillWater(jitter, 5);
     params.kernel = MetaballKernel::Anisotropic;
