@@ -231,6 +231,10 @@ void describe(V& v, sim::BodyParams& p) {
           {"N/m", "chain: bending stiffness (ours): each particle is pulled toward the line through its two neighbours "
                   "with bending x (x_prev - 2 x + x_next), the neighbours take the reaction (0 = off, the paper's chains)",
            nonNegative()});
+  v.value("fluid_contact_scale", p.fluidContactScale,
+          {"", "this body's share of collisions.fluid_contact (1 = the scene's, 0 = no fluid contact: chains, whose "
+               "lone line of particles the water squeezes together through the void the contact clears)",
+           between(0.0, 100.0)});
   v.value("rim_width", p.rimWidth, {"spacings", "width of the 'rim' selection band", positive()});
   v.list("pins", p.pins, {"", "particles held fixed in space ('rim' or a region)"});
   v.value("hold_until", p.holdUntil,

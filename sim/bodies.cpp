@@ -234,6 +234,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
       particles.add(q.x(), q.y(), q.z(), 0, 0, 0, rho0, m, nextId++, int32_t(b + 1));
       bodyOf_.push_back(int32_t(b));
       diameter_.push_back(body.spacingMetres(l));
+      contactScale_.push_back(body.fluidContactScale);
       bool pin = false;
       for (const Selection& s : body.pins) pin = pin || selected(s, pts, k);
       pinnedUntil_.push_back(pin ? std::numeric_limits<float>::infinity() : std::max(0.0f, body.holdUntil));
@@ -290,6 +291,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
 
 size_t BodySystem::memoryBytes() const {
   return springs_.memoryBytes() + indexOfId_.capacity() * 4 + bodyOf_.capacity() * 4 + diameter_.capacity() * 4 +
+         contactScale_.capacity() * 4 +
          baseDensity_.capacity() * 4 + particleMass_.capacity() * 4 +
          lengthRatio_.capacity() * 4 + pinnedUntil_.capacity() * 4 + cells_.order.capacity() * sizeof(cells_.order[0]) +
          cells_.range.capacity() * sizeof(cells_.range[0]) +
@@ -454,7 +456,9 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
   const size_t count = indexOfId_.size();
   float cell = 0.0f;
   for (size_t id = 0; id < count; ++id) cell = std::max(cell, diameter_[id] / lengthRatio_[id]);
-  cell *= std::max(1.0f, fluidContact_);
+  float scale = 0.0f;
+  for (float s : contactScale_) scale = std::max(scale, s);
+  cell *= std::max(1.0f, fluidContact_ * scale);
   if (!(cell > 0.0f)) return 0;
   auto cellOf = [&](size_t i, int axis) {
     const float v = axis == 0 ? p.x[i] : axis == 1 ? p.y[i] : p.z[i];
@@ -527,7 +531,7 @@ int BodySystem::fluidPass(ParticleSet& p, double t, float cell) {
       continue;
     forEachInNeighbourCells(cells_, cellOf(p.x[i]), cellOf(p.y[i]), cellOf(p.z[i]), [&](uint32_t b) {
       const size_t j = indexOfId_[b];
-      const float contact = fluidContact_ * diameter_[b] / lengthRatio_[b];
+      const float contact = fluidContact_ * contactScale_[b] * diameter_[b] / lengthRatio_[b];
       Eigen::Vector3f d(p.x[i] - p.x[j], p.y[i] - p.y[j], p.z[i] - p.z[j]);
       const float r = d.norm();
       if (r >= contact * (1.0f - 1e-4f)) return;

@@ -124,6 +124,7 @@ private:
   Eigen::Vector3f up_{0, 0, 1};                     // against gravity
   std::vector<int32_t> bodyOf_;            // per id
   std::vector<float> diameter_;            // per id: d0 of its body
+  std::vector<float> contactScale_;        // per id: its body's fluid_contact_scale
   std::vector<float> lengthRatio_;         // per id: L^leng (1 without telescopic density)
   std::vector<float> pinnedUntil_;         // per id: 0 free, +inf pinned, else held until then
   std::vector<int64_t> pinnedIds_;

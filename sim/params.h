@@ -235,6 +235,10 @@ struct BodyParams {
   // neighbours -k_b L_i / 2 each, L_i = x_{i-1} - 2 x_i + x_{i+1} (the gradient of the energy
   // k_b / 4 sum |L_i|^2, zero on a straight chain; momentum-conserving). 0 = off (the paper).
   float bending = 0.0f;
+  // Scale of collisions.fluidContact for this body's particles (1 = the scene's, 0 = none: a chain
+  // has no wall to keep fluid out of, and the void the contact clears round a lone line of
+  // particles is squeezed by the water's pressure until its particles pair up).
+  float fluidContactScale = 1.0f;
   float rimWidth = 1.0f;            // rim band width in body spacings
   std::vector<Selection> pins;      // particles held fixed in space
   float holdUntil = 0.0f;           // s: the whole body is held where it was built until then
