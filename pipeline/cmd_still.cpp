@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <vector>
 
 namespace kurage::pipeline {
@@ -30,7 +31,8 @@ constexpr const char* kHelp =
     "options:\n"
     "  -t, --time T         simulated time in seconds (required)\n"
     "  -o, --output FILE    PNG to write (written atomically; its folder must exist)\n"
-    "  --from OUT           read OUT/particles/NNNN.vdb (the frame nearest to T) instead of simulating\n"
+    "  --from OUT           read OUT/particles/NNNN.vdb (the frame nearest to T, at the frame rate\n"
+    "                       recorded in OUT/run.json) instead of simulating\n"
     "  --width W, --height H, --spp N, --max-depth D, --seed S\n"
     "                       override the scene's render settings (after --quality)\n"
     "  --quality Q          final (default) or preview (the scene's preview_quality)\n"
@@ -108,6 +110,15 @@ int commandStill(std::vector<std::string> rawArgs) {
   fs::path cacheFile;
   int cacheFrame = -1;
   if (from) {
+    // The run's own frame rate (a preview run may have its own, preview_quality.fps), from its
+    // run.json, so that T finds the right frame whatever --quality this still is rendered at.
+    try {
+      const nlohmann::json run = nlohmann::json::parse(readText(fs::path(*from) / "run.json"));
+      const double fps = run.at("parameters").at("output").at("fps").get<double>();
+      if (fps > 0.0 && std::isfinite(fps)) scene.output.fps = float(fps);
+    } catch (const std::exception&) {
+      // no readable run.json: the scene's frame rate at this --quality
+    }
     cacheFrame = int(std::lround(*time * scene.output.fps));
     cacheFile = frameFile(fs::path(*from) / "particles", cacheFrame, "vdb");
     if (!fs::exists(cacheFile))

@@ -254,6 +254,27 @@ TEST(Still, FromCacheGivesTheRenderStagesFrame) {
     for (int x = 0; x < a.width(); ++x) ASSERT_EQ(a.at(x, y), b.at(x, y)) << x << ", " << y;
 }
 
+TEST(Still, FromAPreviewRunFindsTheFrameAtThatRunsFrameRate) {
+  // A preview run at its own frame rate (preview_quality.fps 2, the scene's 4): `still --time 0.5
+  // --from OUT` at the default (final) quality takes the run's frame 1 (0.5 s at 2 fps), not frame
+  // 2 (0.5 s at 4 fps, which at 2 fps is 1 s), and says so.
+  test::TempDir dir;
+  nlohmann::json json = nlohmann::json::parse(pipeline::readText(test::sourceDir() / "tests/scenes/tiny_dam_break.json"));
+  json["preview_quality"]["fps"] = 2;
+  const fs::path scene = dir.path() / "scene.json", out = dir.path() / "out", still = dir.path() / "still.png";
+  pipeline::writeTextAtomic(scene, json.dump());
+  ASSERT_EQ(test::runKurage("sim " + scene.string() + " -o " + out.string() + " --quality preview", dir.path() / "l1.txt"), 0)
+      << pipeline::readText(dir.path() / "l1.txt");
+  ASSERT_FALSE(fs::exists(out / "particles/0003.vdb")) << "2 fps over 1 s: frames 0-2";
+  ASSERT_EQ(test::runKurage("still " + scene.string() + " --time 0.5 --width 16 --height 12 --spp 1 --from " +
+                                out.string() + " -o " + still.string(),
+                            dir.path() / "l2.txt"),
+            0)
+      << pipeline::readText(dir.path() / "l2.txt");
+  EXPECT_NE(pipeline::readText(dir.path() / "l2.txt").find("t = 0.5 s, frame 1 of"), std::string::npos)
+      << pipeline::readText(dir.path() / "l2.txt");
+}
+
 TEST(Still, SixteenBitWithAlphaMatchesEightBit) {
   // The same still as 8-bit RGB and as 16-bit RGBA with a transparent background: colours agree
   // to 8-bit rounding; the ground fills this view, so alpha is 1 everywhere (alpha 0 for the
