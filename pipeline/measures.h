@@ -106,14 +106,14 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 
 // ---- Jellyfish (a shell body: the bell) ----
 
-// The bell's particles as built (t = 0), tracked by id: the wall layer of each (0 = innermost,
-// from its distance to the shell's centre) and the margin (the last ring of latitude of every
-// layer, polar angle within a quarter spacing of the opening angle).
 // The smallest distance between two segments of a chain (an oral arm: body `kind`'s particles
 // in id order) that share no particle: a chain that crosses or knots itself brings two such
 // segments within a particle spacing. Infinity for fewer than four particles.
 double chainSelfApproach(const sim::ParticleSet& particles, int kind);
 
+// The bell's particles as built (t = 0), tracked by id: the wall layer of each (0 = innermost,
+// from its distance to the shell's centre) and the margin (the last ring of latitude of every
+// layer, polar angle within a quarter spacing of the opening angle).
 class ShellWall {
 public:
   // `initial`: the particles at t = 0; `kind` = the shell's body index + 1.

@@ -247,9 +247,11 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
       for (int64_t k = 1; k + 1 < int64_t(pts.positions.size()); ++k)
         bends_.push_back({built.firstId[b] + k - 1, built.firstId[b] + k, built.firstId[b] + k + 1, body.bending});
     for (const MuscleParams& m : body.muscles)
-      muscles_.push_back({m.force, m.righting, m.ceiling, m.ceilingBand, m.ceilingLead, built.firstId[b], int64_t(pts.positions.size()), {}});
+      muscles_.push_back({m.force, m.righting, m.ceiling, m.ceilingBand, m.ceilingLead, built.firstId[b],
+                          int64_t(pts.positions.size()), {}});
     meanGravity_.push_back(pts.positions.empty() ? body.specificGravity : float(gravitySum / double(pts.positions.size())));
   }
+  for (float s : contactScale_) maxContactScale_ = std::max(maxContactScale_, s);
   muscleForces_.assign(muscles_.size(), 0.0f);
   if (params.gravity.norm() > 0.0f) up_ = -params.gravity.normalized();
   muscleWeights_.resize(muscles_.size());
@@ -269,7 +271,12 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
   }
   lengthRatio_.assign(built.count, 1.0f);
   springs_ = SpringNetwork::fromPairs(built.pairs);
-  // Explicit stability of each particle's springs and dampers (Gershgorin bounds).
+  // Explicit stability of each particle's springs and dampers (Gershgorin bounds). The bending
+  // term's stiffness matrix is k_b / 2 D^T D (D the second difference, |D^T D| <= 16): 8 k_b
+  // shared among the three particles of each bend.
+  std::vector<double> bendStiffness(built.count, 0.0);
+  for (const Bend& bend : bends_)
+    for (const int64_t id : {bend.prev, bend.mid, bend.next}) bendStiffness[size_t(id)] += 8.0 * bend.stiffness / 3.0;
   springStep_ = 0.0f;
   for (size_t id = 0; id < built.count; ++id) {
     double k = 0.0, d = 0.0;
@@ -277,9 +284,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
       k += groups_[s->group].stiffness;
       if (!groups_[s->group].implicitDamper) d += groups_[s->group].damping;
     }
-    // The bending term's stiffness matrix is k_b / 2 D^T D (D the second difference, |D^T D| <= 16).
-    for (const Bend& bend : bends_)
-      if (bend.prev == int64_t(id) || bend.mid == int64_t(id) || bend.next == int64_t(id)) k += 8.0 * bend.stiffness / 3.0;
+    k += bendStiffness[id];
     const double m = particleMass_[id];
     double step = std::numeric_limits<double>::infinity();
     if (k > 0.0) step = std::min(step, std::sqrt(2.0 * m / k));
@@ -456,9 +461,7 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
   const size_t count = indexOfId_.size();
   float cell = 0.0f;
   for (size_t id = 0; id < count; ++id) cell = std::max(cell, diameter_[id] / lengthRatio_[id]);
-  float scale = 0.0f;
-  for (float s : contactScale_) scale = std::max(scale, s);
-  cell *= std::max(1.0f, fluidContact_ * scale);
+  cell *= std::max(1.0f, fluidContact_ * maxContactScale_);
   if (!(cell > 0.0f)) return 0;
   auto cellOf = [&](size_t i, int axis) {
     const float v = axis == 0 ? p.x[i] : axis == 1 ? p.y[i] : p.z[i];

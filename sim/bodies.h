@@ -125,6 +125,7 @@ private:
   std::vector<int32_t> bodyOf_;            // per id
   std::vector<float> diameter_;            // per id: d0 of its body
   std::vector<float> contactScale_;        // per id: its body's fluid_contact_scale
+  float maxContactScale_ = 0.0f;           // the largest of contactScale_ (sizes the collision grid)
   std::vector<float> lengthRatio_;         // per id: L^leng (1 without telescopic density)
   std::vector<float> pinnedUntil_;         // per id: 0 free, +inf pinned, else held until then
   std::vector<int64_t> pinnedIds_;

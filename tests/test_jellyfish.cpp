@@ -31,7 +31,7 @@ struct Trace {
   double closestUnjoined = 1e30;        // m
   double closestArm = 1e30;             // m, chainSelfApproach over the arms
   double mostTilt = 0.0;                // degrees
-  double highestApex = -1e30, lowestAfterPeak = 1e30, lowestBell = 1e30, highestBell = -1e30;
+  double highestApex = -1e30, lowestBell = 1e30, highestBell = -1e30;
   double deepestFallAfterTen = 0.0;     // largest (highest apex so far - apex) after the tenth pulse
 };
 
@@ -135,7 +135,7 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthKeepingItsShapeAndUntangledArms) 
 }
 
 // The control: the same scene without the ring muscle's pulses sinks (its bell is heavier than
-// water, 1.18 on average), over the same ten periods.
+// water, 1.17 on average), over the same ten periods.
 TEST(Jellyfish, TheSameBellUnpulsedSinks) {
   pipeline::Scene scene = jellyfishScene();
   sim::SimParams& p = scene.sim;
