@@ -130,6 +130,8 @@ inline const EnumTable<sim::BodyShape> kBodyShape{{"box", sim::BodyShape::Box},
 inline const EnumTable<sim::SelectionKind> kSelectionKind{{"all", sim::SelectionKind::All},
                                                           {"rim", sim::SelectionKind::Rim},
                                                           {"region", sim::SelectionKind::Region}};
+inline const EnumTable<sim::TelescopicMeasure> kTelescopicMeasure{{"isotropic", sim::TelescopicMeasure::Isotropic},
+                                                                   {"stretch_only", sim::TelescopicMeasure::StretchOnly}};
 inline const EnumTable<sim::Damper> kDamper{{"implicit", sim::Damper::Implicit}, {"explicit", sim::Damper::Explicit}};
 inline const EnumTable<sim::CurveType> kCurveType{{"keys", sim::CurveType::Keys}, {"pulse", sim::CurveType::Pulse}};
 
@@ -227,6 +229,11 @@ void describe(V& v, sim::BodyParams& p) {
           {"l_avr", "h_spr: every pair closer than this at t = 0 is joined by a spring (paper: 2.1, 2.4, 4.1)", positive()});
   v.value("telescopic_density", p.telescopicDensity,
           {"", "rest density follows stretch, (8)-(10); false = the paper's conventional mass-spring model"});
+  v.enumeration("telescopic_measure", p.telescopicMeasure, kTelescopicMeasure,
+                {"", "what the rest density follows: 'isotropic' = the paper's (8), every spring's length ratio, so a "
+                     "shortened spring raises it; 'stretch_only' (ours) = min(1, (8)): a stretch lowers it as in the "
+                     "paper, a shortening leaves it (a wall that a ring muscle shortens in one direction keeps its "
+                     "volume; docs/PHYSICS.md 'The jellyfish')"});
   v.value("bending", p.bending,
           {"N/m", "chain: bending stiffness (ours): each particle is pulled toward the line through its two neighbours "
                   "with bending x (x_prev - 2 x + x_next), the neighbours take the reaction (0 = off, the paper's chains)",

@@ -219,6 +219,7 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
     restDensity_.push_back(body.restDensity());
     double gravitySum = 0.0;
     telescopicBody_.push_back(body.telescopicDensity);
+    telescopicMeasure_.push_back(body.telescopicMeasure);
     telescopic_ = telescopic_ || body.telescopicDensity;
     groups_.push_back({body.stiffness, body.damping, body.damper == Damper::Implicit});
     const BodyPoints& pts = built.points[b];
@@ -316,7 +317,7 @@ void BodySystem::updateRestDensity(ParticleSet& p) {
       const size_t b = size_t(bodyOf_[id]);
       if (!telescopicBody_[b]) continue;
       const size_t i = indexOfId_[id];
-      const float leng = lengthRatio(springs_, p, indexOfId_, i);  // (8)-(9)
+      const float leng = telescopicLengthRatio(telescopicMeasure_[b], lengthRatio(springs_, p, indexOfId_, i));  // (8)-(9)
       lengthRatio_[id] = leng;
       p.restDensity[i] = leng * leng * leng * baseDensity_[id];  // (10), rho0 <- L^dens rho0
     }

@@ -83,7 +83,8 @@ public:
 
   // Maps ids to sorted positions; call after every re-sort.
   void index(const ParticleSet& particles);
-  // (8)-(10): rho0_i = (L_i^leng)^3 rho0_i(t = 0) for the bodies with telescopic density.
+  // (8)-(10): rho0_i = (L_i^leng)^3 rho0_i(t = 0) for the bodies with telescopic density, L^leng
+  // under each body's measure (telescopicLengthRatio).
   void updateRestDensity(ParticleSet& particles);
   // (7) spring-damper forces for a step of dt.
   void addSpringForces(ParticleSet& particles, float dt);
@@ -110,6 +111,7 @@ private:
   std::vector<float> mass_, restDensity_, meanGravity_;  // per body
   std::vector<float> particleMass_, baseDensity_;       // per id: m_i and rho0_i before (10)
   std::vector<uint8_t> telescopicBody_;    // per body
+  std::vector<TelescopicMeasure> telescopicMeasure_;  // per body
   std::vector<SpringGroup> groups_;        // per body
   SpringNetwork springs_;
   std::vector<Muscle> muscles_;

@@ -206,6 +206,14 @@ inline float ceilingFactor(float ceiling, float band, double z) {
   return float(std::clamp((double(ceiling) - z) / double(band), 0.0, 1.0));
 }
 
+// What the rest density (10) follows (SPEC §3.3).
+enum class TelescopicMeasure {
+  Isotropic,    // the paper's (8): every spring's length ratio, shortened springs raise rho0
+  StretchOnly,  // ours: min(1, (8)) -- stretch lowers rho0 as in the paper, shortening leaves it:
+                // for a wall whose muscle shortens it in one direction while it keeps its volume
+                // (docs/PHYSICS.md, The jellyfish)
+};
+
 enum class Damper {
   Implicit,  // (7)'s damper on the relative velocity along each spring, solved exactly per spring (any step)
   Explicit,  // (7) as written: upwind length change, explicit (the step must stay below m / sum d)
@@ -231,6 +239,7 @@ struct BodyParams {
   float connectionRadius = 2.1f;    // h_spr / l_avr
   Damper damper = Damper::Implicit;
   bool telescopicDensity = true;    // (8)-(10); false = the paper's "conventional mass-spring model"
+  TelescopicMeasure telescopicMeasure = TelescopicMeasure::Isotropic;
   // Chain: bending stiffness k_b (ours, N/m): each inner particle i feels k_b L_i and its two
   // neighbours -k_b L_i / 2 each, L_i = x_{i-1} - 2 x_i + x_{i+1} (the gradient of the energy
   // k_b / 4 sum |L_i|^2, zero on a straight chain; momentum-conserving). 0 = off (the paper).

@@ -6,10 +6,12 @@
 // springs, so per-particle sums run in parallel without write conflicts and in a fixed order.
 #pragma once
 
+#include "sim/params.h"
 #include "sim/particles.h"
 
 #include <Eigen/Core>
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -99,5 +101,11 @@ void addMuscleAccelerations(const SpringNetwork& springs, const float* forces, c
 constexpr float kMaxLengthRatio = 10.0f;
 float lengthRatio(const SpringNetwork& springs, const ParticleSet& particles, const std::vector<uint32_t>& indexOfId,
                   size_t i);
+
+// The L^leng that (10) uses under a measure: (8) itself, or (ours) min(1, (8)), so that only a
+// stretch lowers the rest density.
+inline float telescopicLengthRatio(TelescopicMeasure measure, float leng) {
+  return measure == TelescopicMeasure::StretchOnly ? std::min(leng, 1.0f) : leng;
+}
 
 }  // namespace kurage::sim

@@ -133,6 +133,50 @@ TEST(LengthRatio, IsOneAtRestAndOneOverSWhenScaledByS) {
   }
 }
 
+// The premise of `telescopic_measure`: a ring muscle shortens the margin's springs along the ring
+// while the springs across the wall keep its thickness, and the paper's (8) reads that as lost
+// volume (L^leng > 1: a heavier margin); `stretch_only` leaves a shortened particle's rest
+// density and follows a stretch exactly as (8) does.
+TEST(LengthRatio, ARingContractionReadsAsLostVolumeOnlyUnderTheIsotropicMeasure) {
+  SimParams p = emptyWorld();
+  p.bodies.push_back(shellBody({6, 6, 3}, {0, 0, 1}));
+  Simulation sim(p);
+  const ParticleSet& rest = sim.particles();
+  std::vector<Eigen::Vector3f> points;
+  std::vector<int64_t> ids;
+  for (size_t i = 0; i < rest.size(); ++i) {
+    points.emplace_back(rest.x[i], rest.y[i], rest.z[i]);
+    ids.push_back(rest.id[i]);
+  }
+  const SpringNetwork network = SpringNetwork::connect(points, ids, p.bodies[0].connectionRadius * p.fluid.spacing);
+  std::vector<uint32_t> index;
+  indexParticlesById(rest, index);
+  for (const float scale : {0.8f, 1.25f}) {
+    // Every particle's distance from the axis scaled (a ring contraction or widening), heights kept.
+    ParticleSet ring = rest;
+    for (size_t i = 0; i < ring.size(); ++i) {
+      ring.x[i] = 6.0f + scale * (ring.x[i] - 6.0f);
+      ring.y[i] = 6.0f + scale * (ring.y[i] - 6.0f);
+    }
+    size_t margin = 0;
+    for (size_t i = 0; i < ring.size(); ++i) {
+      if (std::hypot(rest.x[i] - 6.0f, rest.y[i] - 6.0f) < 2.0f) continue;  // the flanks, not the apex
+      ++margin;
+      const float leng = lengthRatio(network, ring, index, i);
+      const float isotropic = telescopicLengthRatio(TelescopicMeasure::Isotropic, leng);
+      const float stretchOnly = telescopicLengthRatio(TelescopicMeasure::StretchOnly, leng);
+      if (scale < 1.0f) {
+        EXPECT_GT(isotropic, 1.02f) << "a ring contraction reads as lost volume under (8)";
+        EXPECT_EQ(stretchOnly, 1.0f) << "and as none under stretch_only";
+      } else {
+        EXPECT_LT(isotropic, 0.98f) << "a widening reads as a stretch";
+        EXPECT_EQ(stretchOnly, isotropic) << "which stretch_only follows as (8) does";
+      }
+    }
+    EXPECT_GT(margin, size_t(50));
+  }
+}
+
 TEST(ImplicitDamper, NeverAddsEnergyAndLetsABodyFallFreely) {
   // Two particles joined by a spring, stretched, with a damper 1000 times the paper's: the explicit
   // damper needs dt < m / (2 d) = 0.005 s here. The implicit one never adds energy, even at 4 times

@@ -1,7 +1,8 @@
 // The jellyfish (issues 6 and 15, scenes/jellyfish.json): the bell swims by jet propulsion for ten
 // pulses and more, where the same bell unpulsed sinks; it keeps its shape (the margin reopens, the
 // shell never folds through itself, its height-to-diameter ratio comes back after every pulse);
-// its oral arms trail without knots. The README run's
+// its oral arms trail without knots; the paper's telescopic density acts in the bell (its
+// stretch_only measure) and no fluid gets into the wall. The README run's
 // figures come from `kurage run` itself (run.json's "swim", bodies.csv; docs/STABILITY.md).
 //
 // Measures (pipeline/measures.h ShellWall): the bell's apex (its highest particle), centre of
@@ -33,6 +34,8 @@ struct Trace {
   double mostTilt = 0.0;                // degrees
   double highestApex = -1e30, lowestBell = 1e30, highestBell = -1e30;
   double deepestFallAfterTen = 0.0;     // largest (highest apex so far - apex) after the tenth pulse
+  size_t mostFluidInWall = 0;           // fluid particles inside the bell's wall, most in one sample
+  double lowestRestDensity = 1e30, highestRestDensity = 0.0;  // bell particles' rho0 / rho0(t = 0)
 };
 
 }  // namespace
@@ -72,12 +75,16 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthKeepingItsShapeAndUntangledArms) 
       if (q.kind[i] == 1) {
         tr.lowestBell = std::min(tr.lowestBell, double(q.z[i]));
         tr.highestBell = std::max(tr.highestBell, double(q.z[i]));
+        const double factor = double(q.restDensity[i]) / double(s.bodies()->initialRestDensity(q.id[i]));
+        tr.lowestRestDensity = std::min(tr.lowestRestDensity, factor);
+        tr.highestRestDensity = std::max(tr.highestRestDensity, factor);
       }
     }
     const double apex = wall.apexHeight(q);
     tr.highestApex = std::max(tr.highestApex, apex);
     if (afterTen) tr.deepestFallAfterTen = std::max(tr.deepestFallAfterTen, tr.highestApex - apex);
     tr.mostTilt = std::max(tr.mostTilt, wall.tiltDegrees(q));
+    tr.mostFluidInWall = std::max(tr.mostFluidInWall, wall.fluidInsideWall(q));
     tr.closestUnjoined = std::min(tr.closestUnjoined, wall.closestUnjoinedPair(q, joined));
     for (size_t b = 1; b < p.bodies.size(); ++b)
       if (p.bodies[b].shape == sim::BodyShape::Chain)
@@ -116,6 +123,9 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthKeepingItsShapeAndUntangledArms) 
               "%.3f m, closest arm self-approach %.3f m (body spacing %.2f m)\n",
               tr.deepestFallAfterTen, tr.highestApex, 0.5 * rest.diameter, tr.lowestBell, tr.highestBell, surface,
               tr.mostTilt, tr.closestUnjoined, tr.closestArm, bodySpacing);
+  std::printf("bell rest density %.3f .. %.3f of its initial (telescopic_measure stretch_only); most fluid "
+              "particles inside the wall in one sample: %zu\n",
+              tr.lowestRestDensity, tr.highestRestDensity, tr.mostFluidInWall);
   EXPECT_GE(perPulse, 0.1) << "climbs at least 0.1 bell diameters a pulse over the first ten";
   EXPECT_LT(tr.deepestFallAfterTen, 0.5 * rest.diameter) << "holds its depth after the climb";
   EXPECT_LT(tr.highestBell, surface) << "never breaches the surface";
@@ -130,6 +140,13 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthKeepingItsShapeAndUntangledArms) 
   // jet folds the arms into hairpins that come within 0.13 m (a quarter spacing), so the bound is
   // a fifth of the spacing (docs/PHYSICS.md 'The jellyfish').
   EXPECT_GE(tr.closestArm, 0.2 * bodySpacing) << "an arm passes through itself";
+  // The paper's telescopic density acts in the bell (in its stretch_only form): stretched particles
+  // lower their rest density, shortened ones keep it, and no fluid gets into the wall.
+  ASSERT_TRUE(bell.telescopicDensity);
+  EXPECT_EQ(bell.telescopicMeasure, sim::TelescopicMeasure::StretchOnly);
+  EXPECT_LT(tr.lowestRestDensity, 0.99) << "the telescopic density follows the bell's stretch";
+  EXPECT_LE(tr.highestRestDensity, 1.0 + 1e-6) << "and leaves a shortened particle's";
+  EXPECT_EQ(tr.mostFluidInWall, size_t(0)) << "fluid inside the bell's wall";
   EXPECT_GE(s.stats().minStep, p.timeStep.minStep);
   EXPECT_LE(s.bodies()->stats().capHits * 100, s.stats().steps) << "the collision cap stays rare";
 }
