@@ -10,7 +10,9 @@
 // on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, pipeline/measures.h) against a
 // reference rendered once by the path tracer with environment sampling and --reference-spp
 // samples (another seed), and, for the whitted rows, also against whitted itself at 64 sub-pixel
-// samples (its only error is then aliasing). With --variance: where the noise comes from, the
+// samples and the row's sky directions (its only error is then aliasing). Every row but the
+// whitted ones, the reference and --variance are path-traced whatever integrator the scene file
+// names. With --variance: where the noise comes from, the
 // RMSE between two renders that differ only in the seed, divided by sqrt(2) (the noise of one
 // render), for each light alone and for each path depth.
 #include "pipeline/cli.h"
@@ -90,7 +92,7 @@ std::vector<BenchRow> rmseRows() {
                       s.adaptive.minSamples = lo;
                       s.adaptive.maxSamples = hi;
                     }});
-  for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{1, 16}, std::pair{4, 16}})
+  for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{4, 4}, std::pair{16, 4}, std::pair{1, 16}, std::pair{4, 16}})
     rows.push_back({"whitted, " + std::to_string(spp) + " spp, " + std::to_string(sky) + " sky rays", [spp, sky](S& s) {
                       s.integrator = render::Integrator::Whitted;
                       s.samplesPerPixel = spp;
@@ -99,17 +101,33 @@ std::vector<BenchRow> rmseRows() {
   return rows;
 }
 
+// The frame's scene with the path tracer, whatever integrator the scene file names (the rows and
+// the reference are path-traced unless a row says whitted).
+Scene pathTraced(const Scene& scene) {
+  Scene s = scene;
+  s.render.settings.integrator = render::Integrator::Path;
+  return s;
+}
+
 int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, bool json) {
   ThreadLimit limit(threads);
-  Scene referenceScene = frame.scene;
+  const Scene pathScene = pathTraced(frame.scene);
+  Scene referenceScene = pathScene;
   referenceScene.render.settings.samplesPerPixel = referenceSpp;
   referenceScene.render.settings.seed = frame.scene.render.settings.seed + 1;
   render::RenderStats referenceStats;
   const render::Image reference = frame.render(referenceScene, &referenceStats);
-  Scene whittedScene = frame.scene;
-  whittedScene.render.settings.integrator = render::Integrator::Whitted;
-  whittedScene.render.settings.samplesPerPixel = 64;
-  const render::Image whittedReference = frame.render(whittedScene, nullptr);
+  // Whitted's own converged frame, per number of sky directions: 64 sub-pixel samples.
+  std::map<int, render::Image> whittedReferences;
+  const auto whittedReference = [&](int skyDirections) -> const render::Image& {
+    auto it = whittedReferences.find(skyDirections);
+    if (it != whittedReferences.end()) return it->second;
+    Scene whittedScene = pathScene;
+    whittedScene.render.settings.integrator = render::Integrator::Whitted;
+    whittedScene.render.settings.whitted.skyDirections = skyDirections;
+    whittedScene.render.settings.samplesPerPixel = 64;
+    return whittedReferences.emplace(skyDirections, frame.render(whittedScene, nullptr)).first->second;
+  };
   const render::RenderSettings& base = frame.scene.render.settings;
   nlohmann::json result = {{"benchmark", "render_rmse"}, {"width", base.width}, {"height", base.height},
                            {"threads", threads}, {"reference_spp", referenceSpp},
@@ -120,13 +138,13 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, bool json)
                 base.width, base.height, threads, base.maxDepth, referenceSpp, referenceStats.seconds, "run", "s/frame",
                 "RMSE", "mean spp", "RMSE vs whitted@64");
   for (const BenchRow& row : rmseRows()) {
-    Scene scene = frame.scene;
+    Scene scene = pathScene;
     row.set(scene.render.settings);
     render::RenderStats stats;
     const render::Image image = frame.render(scene, &stats);
     const double rmse = imageRmse(image, reference);
     const bool whitted = scene.render.settings.integrator == render::Integrator::Whitted;
-    const double self = whitted ? imageRmse(image, whittedReference) : -1.0;
+    const double self = whitted ? imageRmse(image, whittedReference(scene.render.settings.whitted.skyDirections)) : -1.0;
     const double spp = double(stats.samples) / (double(base.width) * base.height);
     result["rows"].push_back({{"run", row.label}, {"seconds", stats.seconds}, {"rmse", rmse}, {"mean_spp", spp},
                               {"rmse_vs_whitted64", whitted ? nlohmann::json(self) : nlohmann::json(nullptr)}});
@@ -145,7 +163,7 @@ int benchVariance(const BenchFrame& frame, int threads, bool json) {
   const int spp = frame.scene.render.settings.samplesPerPixel;
   ThreadLimit limit(threads);
   const auto noise = [&](const std::function<void(Scene&)>& set) {
-    Scene scene = frame.scene;
+    Scene scene = pathTraced(frame.scene);
     set(scene);
     const render::Image a = frame.render(scene, nullptr);
     scene.render.settings.seed += 1;
