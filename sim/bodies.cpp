@@ -473,6 +473,9 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
   Eigen::Array<int64_t, 3, 1> lo = Eigen::Array<int64_t, 3, 1>::Constant(std::numeric_limits<int64_t>::max()), hi = -lo;
   for (size_t id = 0; id < count; ++id) {
     const size_t i = indexOfId_[id];
+    // A non-finite position has no cell (its cast is undefined): the pass leaves it, and the
+    // step's finite check stops the run with an error naming the time.
+    if (!std::isfinite(p.x[i]) || !std::isfinite(p.y[i]) || !std::isfinite(p.z[i])) return 0;
     const Eigen::Array<int64_t, 3, 1> c(cellOf(i, 0), cellOf(i, 1), cellOf(i, 2));
     lo = lo.min(c);
     hi = hi.max(c);
@@ -481,7 +484,7 @@ int BodySystem::collisionPass(ParticleSet& p, double t) {
   std::sort(table.order.begin(), table.order.end());
   const Eigen::Array<int64_t, 3, 1> n = hi - lo + 1;
   table.range.clear();
-  if (count > 0 && n.prod() <= int64_t(64 * count + 65536)) {
+  if (count > 0 && double(n.x()) * double(n.y()) * double(n.z()) <= double(64 * count + 65536)) {
     table.x0 = lo.x(), table.y0 = lo.y(), table.z0 = lo.z();
     table.nx = n.x(), table.ny = n.y(), table.nz = n.z();
     table.range.assign(size_t(n.prod()), {0u, 0u});

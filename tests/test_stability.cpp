@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <map>
 #include <string>
@@ -610,6 +611,31 @@ TEST(Coincident, TwoBodyParticlesAtOnePlaceSeparate) {
   expectHealthy(sim, at(sim));
   const float contact = 0.5f * sim.params().fluid.spacing;  // the body spacing: the collision diameter
   EXPECT_GE((positionOf(sim.particles(), 0) - positionOf(sim.particles(), 1)).norm(), contact * (1.0f - 1e-3f));
+}
+
+// A body particle whose state became non-finite (here set so) stops the run with the simulation's
+// own error naming the time; its position once gave the collision grid a cell range whose size
+// overflowed, and the run died with "cannot create std::vector larger than max_size()".
+TEST(NonFinite, ABodyParticleStopsTheRunWithASimulationError) {
+  Budget budget;
+  SimParams p;
+  p.container.max = Eigen::Vector3f(6, 6, 6);
+  // Two one-particle bodies in one row of collision cells.
+  p.bodies.push_back(boxBody({2, 2.75f, 2.75f}, {2.5f, 3.25f, 3.25f}));
+  p.bodies.push_back(boxBody({4, 2.75f, 2.75f}, {4.5f, 3.25f, 3.25f}));
+  p.bodies[1].name = "other";
+  Simulation sim(p);
+  ParticleSet& s = sim.particles();
+  ASSERT_EQ(s.size(), 2u);
+  s.x[0] = s.vx[0] = std::numeric_limits<float>::quiet_NaN();
+  try {
+    sim.advanceTo(0.5);
+    ADD_FAILURE() << "ran on with a non-finite particle";
+  } catch (const SimulationError& e) {
+    EXPECT_NE(std::string(e.what()).find("time"), std::string::npos) << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "not a SimulationError: " << e.what();
+  }
 }
 
 // ---- Degenerate scenes ----
