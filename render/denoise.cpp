@@ -1,6 +1,9 @@
 // Edge-avoiding a-trous denoiser; see denoise.h.
 #include "render/denoise.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -43,7 +46,10 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
     const int step = 1 << pass;
     const float sigma = s.colourSigma * std::pow(0.7071f, float(pass));  // narrower as the noise goes
     const float invColour = 1.0f / (sigma * sigma);
-    for (int y = 0; y < h; ++y)
+    // Rows in parallel: each pass reads `current` and writes its own rows of `next`, so the result
+    // does not depend on the thread count.
+    tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
+    for (int y = rows.begin(); y < rows.end(); ++y)
       for (int x = 0; x < w; ++x) {
         const size_t p = size_t(y) * size_t(w) + size_t(x);
         const Vector3f& cp = current[p];
@@ -68,6 +74,7 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
         }
         next[p] = weights > 0.0f ? Vector3f(sum / weights) : cp;
       }
+    });
     current.swap(next);
   }
   Image out = noisy;
