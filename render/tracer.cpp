@@ -99,6 +99,7 @@ void addMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigne
     for (size_t i = 0; i < mesh.triangles.size(); ++i)
       for (int k = 0; k < 3; ++k) indices[3 * i + k] = static_cast<unsigned>(mesh.triangles[i][k]);
   }
+  rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
   rtcCommitGeometry(geometry);
   rtcAttachGeometryByID(scene, geometry, geomID);
   rtcReleaseGeometry(geometry);
@@ -904,6 +905,9 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
     for (const Tube& tube : set.tubes)
       for (const Vector3f& p : tube.points) scale = std::max(scale, p.cwiseAbs().maxCoeff());
   }
+  // High-quality BVHs (SAH with spatial splits): builds cost more, traversal less; on the
+  // jellyfish's preview frame the path tracer's frame time fell about 10 % (build included).
+  rtcSetSceneBuildQuality(embreeScene.get(), RTC_BUILD_QUALITY_HIGH);
   rtcCommitScene(embreeScene.get());
   throwIfError(device.get(), errors, "scene build");
 
