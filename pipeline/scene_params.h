@@ -482,8 +482,10 @@ void describe(V& v, render::DenoiseSettings& p) {
           {"", "path integrator: filter the frame (edge-avoiding a-trous wavelets guided by albedo and normal "
                "buffers, docs/RENDERING.md)"});
   v.value("iterations", p.iterations, {"", "filter passes; the widest reaches 2^(iterations+1) pixels", between(1, 10)});
-  v.value("color_sigma", p.colourSigma, {"", "relative colour difference at which a neighbour's weight falls to 1/e",
-                                         positive()});
+  v.value("color_sigma", p.colourSigma,
+          {"", "relative colour difference at which a neighbour's weight falls to 1/e, at 4 samples per pixel (it "
+               "narrows as 1/sqrt(samples), as the noise does)",
+           positive()});
   v.value("normal_sigma", p.normalSigma, {"", "normal difference at which a neighbour's weight falls to 1/e", positive()});
   v.value("albedo_sigma", p.albedoSigma, {"", "albedo difference at which a neighbour's weight falls to 1/e", positive()});
 }

@@ -26,14 +26,16 @@ Vector3f demodulator(const Vector3f& albedo) {
 
 }  // namespace
 
-Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings& s) {
+Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings& s, double samplesPerPixel) {
   const int w = noisy.width(), h = noisy.height();
   const size_t n = size_t(w) * size_t(h);
   if (f.width != w || f.height != h || f.albedo.size() != n || f.normal.size() != n)
     throw std::invalid_argument("denoise: the feature buffers do not match the image");
   if (s.iterations < 1 || s.iterations > 10 || !(s.colourSigma > 0.0f) || !(s.normalSigma > 0.0f) ||
-      !(s.albedoSigma > 0.0f))
-    throw std::invalid_argument("denoise: iterations must be in [1, 10] and the sigmas > 0");
+      !(s.albedoSigma > 0.0f) || !(samplesPerPixel > 0.0))
+    throw std::invalid_argument("denoise: iterations must be in [1, 10], the sigmas and the samples per pixel > 0");
+  // The noise falls as 1/sqrt(samples): so does the colour difference that marks an edge.
+  const float colourSigma = s.colourSigma * float(std::sqrt(4.0 / samplesPerPixel));
   std::vector<Vector3f> current(n), next(n);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
@@ -44,7 +46,7 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
   const float invAlbedo = 1.0f / (s.albedoSigma * s.albedoSigma);
   for (int pass = 0; pass < s.iterations; ++pass) {
     const int step = 1 << pass;
-    const float sigma = s.colourSigma * std::pow(0.7071f, float(pass));  // narrower as the noise goes
+    const float sigma = colourSigma * std::pow(0.7071f, float(pass));  // narrower as the noise goes
     const float invColour = 1.0f / (sigma * sigma);
     // Rows in parallel: each pass reads `current` and writes its own rows of `next`, so the result
     // does not depend on the thread count.

@@ -34,7 +34,7 @@ struct DenoiseSettings {
   // and 4 samples per pixel, over iterations 2-6 and the sigmas below halved and doubled
   // (docs/RENDERING.md, "Denoiser").
   int iterations = 3;          // passes; the widest reaches 2^(iterations+1) pixels
-  float colourSigma = 4.0f;    // relative colour difference at which a tap's weight falls to 1/e
+  float colourSigma = 4.0f;    // relative colour difference at which a tap's weight falls to 1/e, at 4 spp
   float normalSigma = 0.6f;    // |n_p - n_q| at which it falls to 1/e
   float albedoSigma = 0.2f;    // |a_p - a_q| at which it falls to 1/e
 };
@@ -45,8 +45,11 @@ struct FeatureBuffers {
   std::vector<Eigen::Vector3f> normal;
 };
 
-// The filtered image (alpha kept). Throws std::invalid_argument when the features do not match
-// the image's size or the settings are out of range (iterations 1..10, sigmas > 0).
-Image denoise(const Image& noisy, const FeatureBuffers& features, const DenoiseSettings& settings);
+// The filtered image (alpha kept). The colour width is `colourSigma` at 4 samples per pixel and
+// narrows as the noise does, as 1/sqrt(samplesPerPixel) (the frame's mean). Throws
+// std::invalid_argument when the features do not match the image's size or the settings are out
+// of range (iterations 1..10, sigmas > 0, samplesPerPixel > 0).
+Image denoise(const Image& noisy, const FeatureBuffers& features, const DenoiseSettings& settings,
+              double samplesPerPixel = 4.0);
 
 }  // namespace kurage::render

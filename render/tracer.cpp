@@ -1034,7 +1034,9 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
     samples += counters.samples;
   });
   throwIfError(device.get(), errors, "rendering");
-  if (denoising) image = denoise(image, features, settings.denoise);
+  if (denoising)
+    image = denoise(image, features, settings.denoise,
+                    std::max(1.0, double(samples.load()) / (double(settings.width) * double(settings.height))));
   if (layers) {
     std::vector<std::string> names = std::move(layers->objectNames);
     *layers = firstHitLayers(frame, camera, settings.width, settings.height);

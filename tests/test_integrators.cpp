@@ -305,6 +305,31 @@ TEST(Denoise, LeavesANoiseFreeCheckerboardAsItWas) {
   EXPECT_GT(edges, 40);  // the checkerboard is there
 }
 
+TEST(Denoise, ItsColourWidthNarrowsAsTheSamplesGrow) {
+  // A lighting edge (a shadow's: the same albedo and normal on both sides, so only the colour
+  // weight can keep it) between 0.5 and 0.8: at 4 samples per pixel such a step is within the
+  // noise and the filter smooths it; at 1,024 the noise is 16 times smaller, so is the colour
+  // width, and the edge stays. A fixed width would blur it at any sample count.
+  const int w = 32, h = 8;
+  kr::Image image(w, h);
+  kr::FeatureBuffers features;
+  features.width = w;
+  features.height = h;
+  features.albedo.assign(size_t(w * h), Eigen::Vector3f::Constant(0.5f));
+  features.normal.assign(size_t(w * h), Eigen::Vector3f(0, 0, 1));
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) image.at(x, y) = Eigen::Vector4f(x < w / 2 ? 0.5f : 0.8f, x < w / 2 ? 0.5f : 0.8f, x < w / 2 ? 0.5f : 0.8f, 1.0f);
+  kr::DenoiseSettings settings;
+  settings.enabled = true;
+  const auto step = [&](double spp) {
+    const kr::Image out = kr::denoise(image, features, settings, spp);
+    return out.at(w / 2, h / 2).x() - out.at(w / 2 - 1, h / 2).x();
+  };
+  EXPECT_LT(step(4.0), 0.5f * 0.3f) << "smoothed at 4 spp";
+  EXPECT_GT(step(1024.0), 0.9f * 0.3f) << "kept at 1024 spp";
+  EXPECT_THROW(kr::denoise(image, features, settings, 0.0), std::invalid_argument);
+}
+
 TEST(Denoise, RemovesMostOfTheNoiseOfAPlainGround) {
   // The plain ground under the patch sky, 2 paths per pixel: every pixel's true value is
   // albedo / pi * E. The filter must cut the RMSE about it at least threefold.
