@@ -106,6 +106,8 @@ const BadScene kBadScenes[] = {
     {"BodyConnectionRadiusJoinsNone", [](json& s) { addBox(s)["connection_radius"] = 0.3; },
      "bodies[0].connection_radius", "joins no spring"},
     {"BodyOutsideContainer", [](json& s) { addBox(s)["max"] = {10, 3, 12}; }, "bodies[0].max", "lies outside the container"},
+    {"UnknownTelescopicMeasure", [](json& s) { addBox(s)["telescopic_measure"] = "volume"; },
+     "bodies[0].telescopic_measure", "must be one of \"isotropic\", \"stretch_only\", got \"volume\""},
     {"BodiesOverlap", [](json& s) {
        addBox(s);
        json& b = addBox(s);
