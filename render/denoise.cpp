@@ -51,31 +51,31 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
     // Rows in parallel: each pass reads `current` and writes its own rows of `next`, so the result
     // does not depend on the thread count.
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
-    for (int y = rows.begin(); y < rows.end(); ++y)
-      for (int x = 0; x < w; ++x) {
-        const size_t p = size_t(y) * size_t(w) + size_t(x);
-        const Vector3f& cp = current[p];
-        Vector3f sum = Vector3f::Zero();
-        float weights = 0.0f;
-        for (int dy = -2; dy <= 2; ++dy) {
-          const int qy = y + dy * step;
-          if (qy < 0 || qy >= h) continue;
-          for (int dx = -2; dx <= 2; ++dx) {
-            const int qx = x + dx * step;
-            if (qx < 0 || qx >= w) continue;
-            const size_t q = size_t(qy) * size_t(w) + size_t(qx);
-            const Vector3f& cq = current[q];
-            const float scale = 1e-3f + 0.5f * (cp.sum() + cq.sum()) / 3.0f;  // relative colour distance
-            const float colour = (cp - cq).squaredNorm() / (scale * scale) * invColour;
-            const float normal = (f.normal[p] - f.normal[q]).squaredNorm() * invNormal;
-            const float albedo = (f.albedo[p] - f.albedo[q]).squaredNorm() * invAlbedo;
-            const float weight = kB3[size_t(dx + 2)] * kB3[size_t(dy + 2)] * std::exp(-(colour + normal + albedo));
-            sum += weight * cq;
-            weights += weight;
+      for (int y = rows.begin(); y < rows.end(); ++y)
+        for (int x = 0; x < w; ++x) {
+          const size_t p = size_t(y) * size_t(w) + size_t(x);
+          const Vector3f& cp = current[p];
+          Vector3f sum = Vector3f::Zero();
+          float weights = 0.0f;
+          for (int dy = -2; dy <= 2; ++dy) {
+            const int qy = y + dy * step;
+            if (qy < 0 || qy >= h) continue;
+            for (int dx = -2; dx <= 2; ++dx) {
+              const int qx = x + dx * step;
+              if (qx < 0 || qx >= w) continue;
+              const size_t q = size_t(qy) * size_t(w) + size_t(qx);
+              const Vector3f& cq = current[q];
+              const float scale = 1e-3f + 0.5f * (cp.sum() + cq.sum()) / 3.0f;  // relative colour distance
+              const float colour = (cp - cq).squaredNorm() / (scale * scale) * invColour;
+              const float normal = (f.normal[p] - f.normal[q]).squaredNorm() * invNormal;
+              const float albedo = (f.albedo[p] - f.albedo[q]).squaredNorm() * invAlbedo;
+              const float weight = kB3[size_t(dx + 2)] * kB3[size_t(dy + 2)] * std::exp(-(colour + normal + albedo));
+              sum += weight * cq;
+              weights += weight;
+            }
           }
+          next[p] = weights > 0.0f ? Vector3f(sum / weights) : cp;
         }
-        next[p] = weights > 0.0f ? Vector3f(sum / weights) : cp;
-      }
     });
     current.swap(next);
   }
