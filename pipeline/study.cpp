@@ -558,8 +558,36 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
     }
   plot.x.log = wantsLog(xs);
   plot.y.log = wantsLog(ys);
-  // One series per value of the second knob; points labelled with the first knob's value.
-  const size_t groups = study.knobs.size() > 1 ? knobSettings(study.knobs[1]).size() : 1;
+  // One series per value of the second knob; points labelled with the first knob's value. A
+  // one-knob study whose variants name series: one line per series instead.
+  const std::vector<KnobSetting> first = knobSettings(study.knobs[0]);
+  const bool named = study.knobs.size() == 1 &&
+                     std::any_of(first.begin(), first.end(), [](const KnobSetting& k) { return !k.series.empty(); });
+  if (named) {
+    std::vector<std::string> order;  // series in the order of their first variant
+    for (const KnobSetting& k : first)
+      if (std::find(order.begin(), order.end(), k.series) == order.end()) order.push_back(k.series);
+    for (const std::string& name : order) {
+      PlotSeries s;
+      s.markers = true;
+      s.label = name.empty() ? study.knobs[0].name : name;
+      for (const StudyRow& r : rows) {
+        const auto setting = std::find_if(first.begin(), first.end(),
+                                          [&](const KnobSetting& k) { return k.label == r.knobLabels[0]; });
+        if (!r.ok || setting == first.end() || setting->series != name) continue;
+        s.x.push_back(r.totalSeconds);
+        s.y.push_back(r.error);
+        std::string point = r.knobLabels[0];
+        if (!name.empty() && point.rfind(name, 0) == 0) {
+          point.erase(0, name.size());
+          point.erase(0, point.find_first_not_of(", "));
+        }
+        s.pointLabels.push_back(point);
+      }
+      plot.series.push_back(std::move(s));
+    }
+  }
+  const size_t groups = named ? 0 : study.knobs.size() > 1 ? knobSettings(study.knobs[1]).size() : 1;
   const std::vector<KnobSetting> second = study.knobs.size() > 1 ? knobSettings(study.knobs[1]) : std::vector<KnobSetting>{};
   for (size_t g = 0; g < groups; ++g) {
     PlotSeries s;

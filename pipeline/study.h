@@ -56,6 +56,7 @@ std::string_view studyMeasureName(StudyMeasure measure);
 // A knob variant: a label and the scene values it sets, {"json.path": value, ...}.
 struct StudyVariant {
   std::string label;
+  std::string series;  // plot: variants of one series share a line (empty: the knob's line)
   nlohmann::json set = nlohmann::json::object();
 };
 
@@ -69,6 +70,7 @@ struct StudyKnob {
 // One value of a knob, resolved: its label and what it sets.
 struct KnobSetting {
   std::string label;
+  std::string series;  // StudyVariant::series (empty for values)
   std::vector<std::pair<std::string, nlohmann::json>> set;
 };
 std::vector<KnobSetting> knobSettings(const StudyKnob& knob);

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -119,6 +120,38 @@ TEST(Study, FigureIsRedrawnFromItsCsv) {
                             dir.path() / "bad.txt"),
             1);
   EXPECT_NE(readText(dir.path() / "bad.txt").find("other.csv"), std::string::npos);
+}
+
+TEST(Study, VariantsNamingASeriesShareOneLineEachLabelledWithoutTheSeriesName) {
+  TempDir dir;
+  nlohmann::json study = tinyStudy();
+  study["knobs"] = {{{"name", "step"},
+                     {"variants",
+                      {{{"label", "cfl, 0.2"}, {"series", "cfl"}, {"set", {{"time_step.cfl", 0.2}}}},
+                       {{"label", "cfl, 0.4"}, {"series", "cfl"}, {"set", {{"time_step.cfl", 0.4}}}},
+                       {{"label", "fixed 0.002"}, {"series", "fixed"}, {"set", {{"time_step.fixed_step", 0.002}}}}}}}};
+  const std::string file = writeStudy(dir, study);
+  const auto out = dir.path() / "out";
+  ASSERT_EQ(test::runKurage("study " + file + " -o " + out.string() + " --threads 1", dir.path() / "log.txt"), 0)
+      << readText(dir.path() / "log.txt");
+  const std::string gp = readText(out / "study.gp");
+  // Two lines (cfl with two points, fixed with one) and the accepted error's line.
+  const auto block = [&](int k) {
+    const std::string start = "$series" + std::to_string(k) + " << EOD\n";
+    const size_t at = gp.find(start);
+    if (at == std::string::npos) return std::string();
+    return gp.substr(at + start.size(), gp.find("EOD", at + start.size()) - at - start.size());
+  };
+  const std::string cfl = block(0), fixed = block(1);
+  EXPECT_EQ(std::count(cfl.begin(), cfl.end(), '\n'), 2) << gp;
+  EXPECT_EQ(std::count(fixed.begin(), fixed.end(), '\n'), 1) << gp;
+  EXPECT_NE(block(2), "") << gp;
+  EXPECT_EQ(block(3), "") << gp;
+  EXPECT_NE(gp.find("title \"cfl\""), std::string::npos) << gp;
+  EXPECT_NE(gp.find("title \"fixed\""), std::string::npos) << gp;
+  EXPECT_NE(block(0).find("\"0.2\""), std::string::npos) << block(0);  // "cfl, 0.2" less "cfl, "
+  EXPECT_EQ(block(0).find("cfl"), std::string::npos) << block(0);
+  EXPECT_NE(block(1).find("\"0.002\""), std::string::npos) << block(1);  // "fixed 0.002" less "fixed "
 }
 
 TEST(Study, AFailedRunIsARowWithItsMessage) {

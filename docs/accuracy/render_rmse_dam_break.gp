@@ -9,35 +9,51 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-0.0351569 0.158712 "today: sky by BSDF, no split, 1 spp"
-0.0733574 0.0788821 "today: sky by BSDF, no split, 4 spp"
-0.223433 0.0424274 "today: sky by BSDF, no split, 16 spp"
-0.792531 0.0284941 "today: sky by BSDF, no split, 64 spp"
-0.0424344 0.127274 "path MIS + split, 1 spp"
-0.11619 0.0617222 "path MIS + split, 4 spp"
-0.38561 0.0316595 "path MIS + split, 16 spp"
-1.50934 0.0181831 "path MIS + split, 64 spp"
-0.131001 0.040695 "path MIS + split + denoiser, 4 spp"
-0.401123 0.0240014 "path MIS + split + denoiser, 16 spp"
-0.561804 0.0356672 "path, adaptive 0.1 (4-64)"
-2.71133 0.0183929 "path, adaptive 0.05 (8-256)"
-0.0395878 0.0977432 "whitted, 1 spp, 4 sky"
-0.0929481 0.078033 "whitted, 4 spp, 4 sky"
-0.230256 0.0774637 "whitted, 4 spp, 16 sky"
+0.0351569 0.158712 "1 spp"
+0.0733574 0.0788821 "4 spp"
+0.223433 0.0424274 "16 spp"
+0.792531 0.0284941 "64 spp"
 EOD
 $series1 << EOD
+0.0424344 0.127274 "1 spp"
+0.11619 0.0617222 "4 spp"
+0.38561 0.0316595 "16 spp"
+1.50934 0.0181831 "64 spp"
+EOD
+$series2 << EOD
+0.131001 0.040695 "4 spp"
+0.401123 0.0240014 "16 spp"
+EOD
+$series3 << EOD
+0.561804 0.0356672 "0.1 (4-64)"
+2.71133 0.0183929 "0.05 (8-256)"
+EOD
+$series4 << EOD
+0.0395878 0.0977432 "1 spp, 4 sky"
+0.0929481 0.078033 "4 spp, 4 sky"
+0.230256 0.0774637 "4 spp, 16 sky"
+EOD
+$series5 << EOD
 0.0351569 0.03 ""
 2.71133 0.03 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "study.png"
-plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "integrator" noenhanced, \
+set output "render_rmse_dam_break.png"
+plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "today: sky by BSDF, no split" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series1 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.03" noenhanced
+     $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "path MIS + split" noenhanced, \
+     $series1 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series2 using 1:2 with linespoints lc 3 lw 2 pt 7 ps 1 axes x1y1 title "path MIS + split + denoiser" noenhanced, \
+     $series2 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series3 using 1:2 with linespoints lc 4 lw 2 pt 7 ps 1 axes x1y1 title "path, adaptive" noenhanced, \
+     $series3 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series4 using 1:2 with linespoints lc 5 lw 2 pt 7 ps 1 axes x1y1 title "whitted" noenhanced, \
+     $series4 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series5 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.03" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "study.svg"
+set output "render_rmse_dam_break.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "study.pdf"
+set output "render_rmse_dam_break.pdf"
 replot
 unset output

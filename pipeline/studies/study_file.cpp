@@ -33,6 +33,9 @@ template <class V>
 void describe(V& v, StudyVariant& p) {
   v.value("label", p.label, {"", "the variant's name in the CSV, the plot and the summary", {}, true});
   v.value("set", p.set, {"", "scene values it sets: {\"json.path\": value, ...}", {}, true});
+  v.value("series", p.series,
+          {"", "plot of a one-knob study: variants naming the same series are joined by one line, named in the "
+               "legend, each point labelled with its label less the series' name (e.g. \"path\" and \"path, 4 spp\")"});
 }
 
 template <class V>
@@ -192,9 +195,9 @@ std::string measureProblem(const Study& study, const Scene& scene) {
 
 std::vector<KnobSetting> knobSettings(const StudyKnob& knob) {
   std::vector<KnobSetting> out;
-  for (const nlohmann::json& v : knob.values) out.push_back({labelOf(v), {{knob.path, v}}});
+  for (const nlohmann::json& v : knob.values) out.push_back({labelOf(v), "", {{knob.path, v}}});
   for (const StudyVariant& variant : knob.variants) {
-    KnobSetting s{variant.label, {}};
+    KnobSetting s{variant.label, variant.series, {}};
     for (const auto& [path, value] : variant.set.items()) s.set.emplace_back(path, value);
     out.push_back(std::move(s));
   }
