@@ -16,6 +16,7 @@
 // RMSE between two renders that differ only in the seed, divided by sqrt(2) (the noise of one
 // render), for each light alone and for each path depth.
 #include "pipeline/cli.h"
+#include "pipeline/io/exr.h"
 #include "pipeline/io/surface_file.h"
 #include "pipeline/measures.h"
 #include "pipeline/particle_cache.h"
@@ -31,6 +32,8 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <optional>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -109,14 +112,35 @@ Scene pathTraced(const Scene& scene) {
   return s;
 }
 
-int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, bool json) {
+// The path tracer's converged frame: read from `file` when it exists (and has the frame's size),
+// else rendered with `spp` samples (another seed) and, with a file named, written there.
+render::Image rmseReference(const BenchFrame& frame, const std::optional<std::string>& file, int spp,
+                            render::RenderStats& stats, bool& read) {
+  const render::RenderSettings& base = frame.scene.render.settings;
+  read = file && std::filesystem::exists(*file);
+  if (read) {
+    render::Image image = readExr(*file).beauty;
+    if (image.width() != base.width || image.height() != base.height)
+      throw std::runtime_error(*file + ": the reference is " + std::to_string(image.width()) + "x" +
+                               std::to_string(image.height()) + ", the frame " + std::to_string(base.width) + "x" +
+                               std::to_string(base.height));
+    return image;
+  }
+  Scene scene = pathTraced(frame.scene);
+  scene.render.settings.samplesPerPixel = spp;
+  scene.render.settings.seed = base.seed + 1;
+  render::Image image = frame.render(scene, &stats);
+  if (file) writeExr(*file, image, nullptr, 0.0, 0);
+  return image;
+}
+
+int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std::optional<std::string>& referenceFile,
+              const std::optional<std::string>& only, bool json) {
   ThreadLimit limit(threads);
   const Scene pathScene = pathTraced(frame.scene);
-  Scene referenceScene = pathScene;
-  referenceScene.render.settings.samplesPerPixel = referenceSpp;
-  referenceScene.render.settings.seed = frame.scene.render.settings.seed + 1;
   render::RenderStats referenceStats;
-  const render::Image reference = frame.render(referenceScene, &referenceStats);
+  bool referenceRead = false;
+  const render::Image reference = rmseReference(frame, referenceFile, referenceSpp, referenceStats, referenceRead);
   // Whitted's own converged frame, per number of sky directions: 64 sub-pixel samples.
   std::map<int, render::Image> whittedReferences;
   const auto whittedReference = [&](int skyDirections) -> const render::Image& {
@@ -130,14 +154,18 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, bool json)
   };
   const render::RenderSettings& base = frame.scene.render.settings;
   nlohmann::json result = {{"benchmark", "render_rmse"}, {"width", base.width}, {"height", base.height},
-                           {"threads", threads}, {"reference_spp", referenceSpp},
+                           {"threads", threads}, {"reference_spp", referenceRead ? nlohmann::json(nullptr) : nlohmann::json(referenceSpp)},
+                           {"reference_file", referenceFile ? nlohmann::json(*referenceFile) : nlohmann::json(nullptr)},
                            {"reference_seconds", referenceStats.seconds}, {"rows", nlohmann::json::array()}};
-  if (!json)
-    std::printf("bench render --rmse: %dx%d, %d threads, max depth %d; reference: default path tracer, %d spp (%.1f s)\n"
-                "  %-44s %9s %8s %9s %s\n",
-                base.width, base.height, threads, base.maxDepth, referenceSpp, referenceStats.seconds, "run", "s/frame",
-                "RMSE", "mean spp", "RMSE vs whitted@64");
+  if (!json) {
+    std::printf("bench render --rmse: %dx%d, %d threads, max depth %d; reference: ", base.width, base.height, threads,
+                base.maxDepth);
+    if (referenceRead) std::printf("%s (read)\n", referenceFile->c_str());
+    else std::printf("default path tracer, %d spp (%.1f s)\n", referenceSpp, referenceStats.seconds);
+    std::printf("  %-44s %9s %8s %9s %s\n", "run", "s/frame", "RMSE", "mean spp", "RMSE vs whitted@64");
+  }
   for (const BenchRow& row : rmseRows()) {
+    if (only && row.label.find(*only) == std::string::npos) continue;
     Scene scene = pathScene;
     row.set(scene.render.settings);
     render::RenderStats stats;
@@ -216,7 +244,8 @@ int benchRender(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench render [--spp N] [--json]\n"
                 "       kurage bench render --rmse|--variance [--scene SCENE --from OUT --frame F [--quality Q]]\n"
-                "                           [--width W --height H --spp N --reference-spp R --threads T] [--json]\n\n"
+                "                           [--width W --height H --spp N --reference-spp R --threads T] [--json]\n"
+                "                           [--reference FILE.exr] [--rows TEXT]\n\n"
                 "Renders a fixed scene (a metaball water heap over a checker ground, sun and sky) at 1280x720\n"
                 "with N samples per pixel (default 4) and max depth 8 on 1 and 2 threads; prints Mrays/s\n"
                 "(camera rays, all rays) and seconds per frame. --json prints one JSON object.\n\n"
@@ -224,6 +253,9 @@ int benchRender(ArgParser& args) {
                 "sampling only, no Fresnel splitting; the default; with the denoiser; adaptive; whitted) against a\n"
                 "reference (the default path tracer, R spp, default 1024, another seed), on the fixed scene at 480x270 or on frame F of a\n"
                 "run (OUT/surfaces, and OUT/particles for chains) at the scene's resolution; T threads (default 2).\n"
+                "--reference FILE.exr: read the reference from FILE (its size must be the frame's), or render it\n"
+                "and write it there when FILE does not exist (render a 4096-spp reference once, reuse it).\n"
+                "--rows TEXT: only the rows whose label contains TEXT (e.g. \"denoiser\", \"whitted\").\n"
                 "--variance: the noise of one N-spp render (default 4) by light and by path depth.\n");
     return 0;
   }
@@ -240,6 +272,8 @@ int benchRender(ArgParser& args) {
     const auto sppOption = args.intOption({"--spp"}, 1, 65536);
     const int referenceSpp = args.intOption({"--reference-spp"}, 1, 1 << 20).value_or(1024);
     const int threads = args.intOption({"--threads"}, 1, 1024).value_or(2);
+    const auto referenceFile = args.option({"--reference"});
+    const auto only = args.option({"--rows"});
     if (!args.positionals().empty()) args.fail("takes no positional arguments");
     if (sceneFile.has_value() != from.has_value()) args.fail("--scene and --from go together");
     BenchFrame frame;
@@ -285,7 +319,7 @@ int benchRender(ArgParser& args) {
     if (width) frame.scene.render.settings.width = *width;
     if (height) frame.scene.render.settings.height = *height;
     frame.scene.render.settings.samplesPerPixel = sppOption.value_or(4);
-    return rmse ? benchRmse(frame, threads, referenceSpp, json) : benchVariance(frame, threads, json);
+    return rmse ? benchRmse(frame, threads, referenceSpp, referenceFile, only, json) : benchVariance(frame, threads, json);
   }
   const int spp = args.intOption({"--spp"}, 1, 4096).value_or(4);
   if (!args.positionals().empty()) args.fail("takes no positional arguments");
