@@ -27,6 +27,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -81,7 +82,7 @@ std::vector<BenchRow> rmseRows() {
                     }});
   for (int spp : {1, 4, 16, 64})
     rows.push_back({"path (default: sky MIS, split), " + std::to_string(spp) + " spp", [spp](S& s) { s.samplesPerPixel = spp; }});
-  for (int spp : {1, 3, 4, 16})
+  for (int spp : {1, 3, 4, 8, 10, 12, 16})
     rows.push_back({"path + denoiser, " + std::to_string(spp) + " spp", [spp](S& s) {
                       s.samplesPerPixel = spp;
                       s.denoise.enabled = true;
@@ -135,7 +136,7 @@ render::Image rmseReference(const BenchFrame& frame, const std::optional<std::st
 }
 
 int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std::optional<std::string>& referenceFile,
-              const std::optional<std::string>& only, bool json) {
+              const std::optional<std::string>& only, int repeat, bool json) {
   ThreadLimit limit(threads);
   const Scene pathScene = pathTraced(frame.scene);
   render::RenderStats referenceStats;
@@ -154,7 +155,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
   };
   const render::RenderSettings& base = frame.scene.render.settings;
   nlohmann::json result = {{"benchmark", "render_rmse"}, {"width", base.width}, {"height", base.height},
-                           {"threads", threads}, {"reference_spp", referenceRead ? nlohmann::json(nullptr) : nlohmann::json(referenceSpp)},
+                           {"threads", threads}, {"repeat", repeat}, {"reference_spp", referenceRead ? nlohmann::json(nullptr) : nlohmann::json(referenceSpp)},
                            {"reference_file", referenceFile ? nlohmann::json(*referenceFile) : nlohmann::json(nullptr)},
                            {"reference_seconds", referenceStats.seconds}, {"rows", nlohmann::json::array()}};
   if (!json) {
@@ -170,6 +171,15 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     row.set(scene.render.settings);
     render::RenderStats stats;
     const render::Image image = frame.render(scene, &stats);
+    // Renders are deterministic: repeats change only the seconds, of which the median is kept.
+    std::vector<double> seconds{stats.seconds};
+    for (int k = 1; k < repeat; ++k) {
+      render::RenderStats again;
+      frame.render(scene, &again);
+      seconds.push_back(again.seconds);
+    }
+    std::sort(seconds.begin(), seconds.end());
+    stats.seconds = seconds[seconds.size() / 2];
     const double rmse = imageRmse(image, reference);
     const bool whitted = scene.render.settings.integrator == render::Integrator::Whitted;
     const double self = whitted ? imageRmse(image, whittedReference(scene.render.settings.whitted.skyDirections)) : -1.0;
@@ -245,7 +255,7 @@ int benchRender(ArgParser& args) {
     std::printf("usage: kurage bench render [--spp N] [--json]\n"
                 "       kurage bench render --rmse|--variance [--scene SCENE --from OUT --frame F [--quality Q]]\n"
                 "                           [--width W --height H --spp N --reference-spp R --threads T] [--json]\n"
-                "                           [--reference FILE.exr] [--rows TEXT]\n\n"
+                "                           [--reference FILE.exr] [--rows TEXT] [--repeat N]\n\n"
                 "Renders a fixed scene (a metaball water heap over a checker ground, sun and sky) at 1280x720\n"
                 "with N samples per pixel (default 4) and max depth 8 on 1 and 2 threads; prints Mrays/s\n"
                 "(camera rays, all rays) and seconds per frame. --json prints one JSON object.\n\n"
@@ -256,6 +266,7 @@ int benchRender(ArgParser& args) {
                 "--reference FILE.exr: read the reference from FILE (its size must be the frame's), or render it\n"
                 "and write it there when FILE does not exist (render a 4096-spp reference once, reuse it).\n"
                 "--rows TEXT: only the rows whose label contains TEXT (e.g. \"denoiser\", \"whitted\").\n"
+                "--repeat N: render each row N times and report the median seconds (default 1).\n"
                 "--variance: the noise of one N-spp render (default 4) by light and by path depth.\n");
     return 0;
   }
@@ -274,6 +285,7 @@ int benchRender(ArgParser& args) {
     const int threads = args.intOption({"--threads"}, 1, 1024).value_or(2);
     const auto referenceFile = args.option({"--reference"});
     const auto only = args.option({"--rows"});
+    const int repeat = args.intOption({"--repeat"}, 1, 100).value_or(1);
     if (!args.positionals().empty()) args.fail("takes no positional arguments");
     if (sceneFile.has_value() != from.has_value()) args.fail("--scene and --from go together");
     BenchFrame frame;
@@ -319,7 +331,7 @@ int benchRender(ArgParser& args) {
     if (width) frame.scene.render.settings.width = *width;
     if (height) frame.scene.render.settings.height = *height;
     frame.scene.render.settings.samplesPerPixel = sppOption.value_or(4);
-    return rmse ? benchRmse(frame, threads, referenceSpp, referenceFile, only, json) : benchVariance(frame, threads, json);
+    return rmse ? benchRmse(frame, threads, referenceSpp, referenceFile, only, repeat, json) : benchVariance(frame, threads, json);
   }
   const int spp = args.intOption({"--spp"}, 1, 4096).value_or(4);
   if (!args.positionals().empty()) args.fail("takes no positional arguments");
