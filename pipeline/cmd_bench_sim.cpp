@@ -44,6 +44,7 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
 struct BenchRun {
   std::string solver;
   double iterations = 0;         // DFSPH: density + divergence iterations per step
+  double divergenceIterations = 0;  // of which divergence
   double simulatedPerWall = 0;   // simulated seconds per wall-clock second
   double densityError = 0;       // mean compression over the timed steps (fraction)
   size_t particles = 0;
@@ -77,6 +78,7 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
   const sim::SolverStats& ss = simulation.solver().stats();
   r.iterations = double(ss.densityIterations - solverBefore.densityIterations +
                         ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
+  r.divergenceIterations = double(ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
   r.simulatedPerWall = (simulation.time() - timeBefore) / seconds;
   r.densityError = (simulation.stats().densityErrorSum - before.densityErrorSum) / steps;
   r.particles = simulation.particles().size();
@@ -120,8 +122,8 @@ int benchSim(ArgParser& args) {
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
                         {"warmup_steps", warmup}, {"timed_steps", steps}, {"runs", nlohmann::json::array()}};
   if (!json)
-    std::printf("%6s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %8s %9s\n", "solver", "particles", "h/l", "threads",
-                "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "sim s/s",
+    std::printf("%6s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",
+                "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "div", "sim s/s",
                 "density%");
   for (const std::string& solver : solvers)
   for (int count : counts)
@@ -132,6 +134,7 @@ int benchSim(ArgParser& args) {
         nlohmann::json stages = nlohmann::json::object();
         for (size_t s = 0; s < r.stageMs.size(); ++s) stages[std::string(sim::stageName(sim::Stage(s)))] = r.stageMs[s];
         out["runs"].push_back({{"solver", r.solver}, {"iterations_per_step", r.iterations},
+                               {"divergence_iterations_per_step", r.divergenceIterations},
                                {"simulated_s_per_wall_s", r.simulatedPerWall}, {"mean_density_error", r.densityError},
                                {"particles", r.particles}, {"h_over_spacing", r.hOverSpacing}, {"threads", r.threads},
                                {"mean_neighbours", r.meanNeighbours}, {"ms_per_step", r.msPerStep},
@@ -139,11 +142,11 @@ int benchSim(ArgParser& args) {
                                {"particle_steps_per_s", r.particleStepsPerSecond},
                                {"bytes_per_particle", r.bytesPerParticle}});
         if (!json) {
-          std::printf("%6s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %8.3f %9.3f\n",
+          std::printf("%6s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %5.2f %8.3f %9.3f\n",
                       r.solver.c_str(), r.particles, r.hOverSpacing, r.threads, r.meanNeighbours, r.msPerStep,
                       r.stageMs[size_t(sim::Stage::Sort)], r.stageMs[size_t(sim::Stage::Density)],
                       r.stageMs[size_t(sim::Stage::Forces)], r.particleStepsPerSecond / 1e6, r.bytesPerParticle,
-                      r.iterations, r.simulatedPerWall, 100.0 * r.densityError);
+                      r.iterations, r.divergenceIterations, r.simulatedPerWall, 100.0 * r.densityError);
           std::fflush(stdout);
         }
       }

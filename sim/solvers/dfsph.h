@@ -24,9 +24,10 @@
 //
 // Divergence solve (after the density pass, on the current velocities): q_i = w Drho_i/Dt / D_i
 // and v_i -= sum_j m_j (q_i + q_j) grad W_ij + 2 rho0_i q_i gB_i, until the mean of
-// |Drho/Dt| dt / rho0 is below fluid.max_divergence_error (%), at most max_divergence_iterations.
-// Particles with rho_i < 0.9 rho0_i (a free surface, a splash) are left out, as SPlisHSPlasH does
-// with a neighbour count; inside the liquid the solve is two-sided (ours: SPlisHSPlasH corrects
+// max(Drho/Dt, 0) dt / rho0 (the compressing part, as SPlisHSPlasH measures it) is below
+// fluid.max_divergence_error (%), at most max_divergence_iterations. Particles with
+// rho_i < 0.9 rho0_i (a free surface, a splash) are left out, as SPlisHSPlasH does with a
+// neighbour count; inside the liquid the correction is two-sided (ours: SPlisHSPlasH corrects
 // only converging flow, and a still tank then kept a bouncing mode, measured in docs/PHYSICS.md).
 //
 // Walls also carry the hydrostatic part of their pressure (Adami, Hu & Adams 2012 for a wall at
@@ -47,8 +48,10 @@
 // each particle's pi of the previous step (kept by particle id, so sorting does not lose it),
 // or with the hydrostatic start's pressure. The particles' `pressure` is p_i = pi_i rho_i^2.
 //
-// Kernel: the cubic spline for the density sum and every gradient (kernels.h). Gradients of
-// each neighbour pair are computed once per step and reused by every iteration. Error sums
+// Kernel: the cubic spline for the density sum and every gradient (kernels.h). Each neighbour
+// pair's W'(r)/r is computed once per step and every iteration forms grad W_ij from it and the
+// positions (which the solves do not move): a quarter of the memory traffic of stored gradient
+// vectors, and the same floats. Error sums
 // reduce per fixed chunk of particles, then over chunks in order: the result does not depend on
 // the number of threads.
 #pragma once
@@ -76,9 +79,16 @@ protected:
   SolverStats& mutableStats() override { return stats_; }
 
 private:
-  // Drho_i/Dt of the current velocities, per particle, into rate_; returns nothing.
+  // Four floats in one SIMD register (GCC and Clang vector extension): x, y, z and a fourth
+  // value, so that a neighbour's data is one load and a pair's arithmetic one instruction each
+  // (every float operation in the order of the scalar loops it replaced: the same results).
+  using Float4 = float __attribute__((vector_size(16)));
+  // velocity_ <- the particles' velocities (fourth lane 0), and back.
+  void loadVelocities(const ParticleSet& p);
+  void storeVelocities(ParticleSet& p) const;
+  // Drho_i/Dt of velocity_, per particle, into rate_.
   void densityRate(const SolverContext& c);
-  // v_i -= scale [sum_j m_j (k_i + k_j) grad W_ij + rho0_i k_i gB_i] for the per-particle k.
+  // velocity_ -= scale [sum_j m_j (k_i + k_j) grad W_ij + rho0_i k_i gB_i] for the per-particle k.
   void applyPressure(const SolverContext& c, const float* k, float scale);
   // Sum over particles of f(i) in a fixed order (per chunk, then over chunks).
   template <class F>
@@ -88,7 +98,13 @@ private:
   DensitySum form_;
   float maxDensityError_, maxDivergenceError_;  // fractions
   int maxIterations_, maxDivergenceIterations_;
-  std::vector<std::vector<float>> gradients_;  // per neighbour chunk: 3 floats per neighbour entry
+  // Per neighbour chunk, one float per neighbour entry: W'(r_ij) / r_ij, so that
+  // grad W_ij = gradients_ (x_i - x_j) (positions do not move during the solves).
+  std::vector<std::vector<float>> gradients_;
+  // During the solves (positions do not move, velocities are the unknowns' image): per particle
+  // (x, y, z, w_j), w_j the density rate's weight (m_j, or m_j / rho0_j for density_sum
+  // "volume"), and (vx, vy, vz, 0); written back to the particles after each solve.
+  std::vector<Float4> position_, velocity_;
   std::vector<float> invFactor_;               // 1 / D_i (0 where D_i vanishes)
   std::vector<float> pi_;                      // pi_i of this step
   std::vector<float> change_;                  // per iteration: the pi (or q) change
