@@ -37,6 +37,7 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
   // The noise falls as 1/sqrt(samples): so does the colour difference that marks an edge.
   const float colourSigma = s.colourSigma * float(std::sqrt(4.0 / samplesPerPixel));
   std::vector<Vector3f> current(n), next(n);
+  std::vector<float> brightness(n);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
@@ -48,6 +49,9 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
     const int step = 1 << pass;
     const float sigma = colourSigma * std::pow(0.7071f, float(pass));  // narrower as the noise goes
     const float invColour = 1.0f / (sigma * sigma);
+    // Each pixel's mean channel, for the relative colour distance.
+    std::vector<float>& mean = brightness;
+    tbb::parallel_for(size_t(0), n, [&](size_t i) { mean[i] = current[i].sum() / 3.0f; });
     // Rows in parallel: each pass reads `current` and writes its own rows of `next`, so the result
     // does not depend on the thread count.
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
@@ -65,11 +69,11 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
               if (qx < 0 || qx >= w) continue;
               const size_t q = size_t(qy) * size_t(w) + size_t(qx);
               const Vector3f& cq = current[q];
-              const float scale = 1e-3f + 0.5f * (cp.sum() + cq.sum()) / 3.0f;  // relative colour distance
+              const float scale = 1e-3f + 0.5f * (mean[p] + mean[q]);  // relative colour distance
               const float colour = (cp - cq).squaredNorm() / (scale * scale) * invColour;
               const float normal = (f.normal[p] - f.normal[q]).squaredNorm() * invNormal;
               const float albedo = (f.albedo[p] - f.albedo[q]).squaredNorm() * invAlbedo;
-              const float weight = kB3[size_t(dx + 2)] * kB3[size_t(dy + 2)] * std::exp(-(colour + normal + albedo));
+              const float weight = kB3[size_t(dx + 2)] * kB3[size_t(dy + 2)] * expNegative(colour + normal + albedo);
               sum += weight * cq;
               weights += weight;
             }

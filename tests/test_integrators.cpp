@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <numbers>
 
@@ -274,6 +275,21 @@ TEST(Adaptive, TakesMinSamplesWithoutNoiseAndReachesTheErrorWithIt) {
   EXPECT_LT(std::sqrt(squares / pixels) / expected, 1.5 * 0.05);
   EXPECT_GT(noisyStats.samples, uint64_t(4 * 8 * pixels));  // at least 4 batches on average
   EXPECT_NEAR(s.mean, expected, 0.02 * expected);
+}
+
+TEST(Denoise, ItsTapWeightExpMatchesStdExp) {
+  double worst = 0.0;
+  for (int k = 0; k <= 79999; ++k) {
+    const float x = 0.001f * float(k);  // 0 .. 79.999
+    const double exact = std::exp(-double(x));
+    worst = std::max(worst, std::fabs(double(kr::expNegative(x)) - exact) / exact);
+  }
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_EQ(kr::expNegative(0.0f), 1.0f);
+  EXPECT_EQ(kr::expNegative(80.0f), 0.0f);
+  EXPECT_EQ(kr::expNegative(1e30f), 0.0f);
+  EXPECT_EQ(kr::expNegative(std::numeric_limits<float>::infinity()), 0.0f);
+  EXPECT_EQ(kr::expNegative(std::numeric_limits<float>::quiet_NaN()), 0.0f);
 }
 
 TEST(Denoise, LeavesANoiseFreeCheckerboardAsItWas) {
