@@ -24,8 +24,8 @@
 //
 // Divergence solve (after the density pass, on the current velocities): q_i = w Drho_i/Dt / D_i
 // and v_i -= sum_j m_j (q_i + q_j) grad W_ij + 2 rho0_i q_i gB_i, until the mean of
-// max(Drho/Dt, 0) dt / rho0 (the compressing part, as SPlisHSPlasH measures it) is below
-// fluid.max_divergence_error (%), at most max_divergence_iterations. Particles with
+// |Drho/Dt| dt / rho0 is below fluid.max_divergence_error (%), at most
+// max_divergence_iterations. Particles with
 // rho_i < 0.9 rho0_i (a free surface, a splash) are left out, as SPlisHSPlasH does with a
 // neighbour count; inside the liquid the correction is two-sided (ours: SPlisHSPlasH corrects
 // only converging flow, and a still tank then kept a bouncing mode, measured in docs/PHYSICS.md).
