@@ -50,8 +50,8 @@
 //
 // Kernel: the cubic spline for the density sum and every gradient (kernels.h). Each neighbour
 // pair's W'(r)/r is computed once per step and every iteration forms grad W_ij from it and the
-// positions (which the solves do not move): a quarter of the memory traffic of stored gradient
-// vectors, and the same floats. Error sums
+// positions (which the solves do not move): one float a pair instead of a stored gradient's
+// three, and the same floats. Error sums
 // reduce per fixed chunk of particles, then over chunks in order: the result does not depend on
 // the number of threads.
 #pragma once
