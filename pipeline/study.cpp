@@ -558,48 +558,37 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
     }
   plot.x.log = wantsLog(xs);
   plot.y.log = wantsLog(ys);
-  // One series per value of the second knob; points labelled with the first knob's value. A
-  // one-knob study whose variants name series: one line per series instead.
+  // One line per value of the second knob, points labelled with the first knob's value; in a
+  // one-knob study whose variants name series, one line per series, each point labelled with its
+  // label less the series' name; otherwise one line.
   const std::vector<KnobSetting> first = knobSettings(study.knobs[0]);
-  const bool named = study.knobs.size() == 1 &&
-                     std::any_of(first.begin(), first.end(), [](const KnobSetting& k) { return !k.series.empty(); });
-  if (named) {
-    std::vector<std::string> order;  // series in the order of their first variant
+  const bool twoKnobs = study.knobs.size() > 1;
+  const bool named = !twoKnobs && std::any_of(first.begin(), first.end(), [](const KnobSetting& k) { return !k.series.empty(); });
+  std::vector<std::string> lines;  // each line's key, in order
+  if (twoKnobs)
+    for (const KnobSetting& k : knobSettings(study.knobs[1])) lines.push_back(k.label);
+  else
     for (const KnobSetting& k : first)
-      if (std::find(order.begin(), order.end(), k.series) == order.end()) order.push_back(k.series);
-    for (const std::string& name : order) {
-      PlotSeries s;
-      s.markers = true;
-      s.label = name.empty() ? study.knobs[0].name : name;
-      for (const StudyRow& r : rows) {
-        const auto setting = std::find_if(first.begin(), first.end(),
-                                          [&](const KnobSetting& k) { return k.label == r.knobLabels[0]; });
-        if (!r.ok || setting == first.end() || setting->series != name) continue;
-        s.x.push_back(r.totalSeconds);
-        s.y.push_back(r.error);
-        std::string point = r.knobLabels[0];
-        if (!name.empty() && point.rfind(name, 0) == 0) {
-          point.erase(0, name.size());
-          point.erase(0, point.find_first_not_of(", "));
-        }
-        s.pointLabels.push_back(point);
-      }
-      plot.series.push_back(std::move(s));
-    }
-  }
-  const size_t groups = named ? 0 : study.knobs.size() > 1 ? knobSettings(study.knobs[1]).size() : 1;
-  const std::vector<KnobSetting> second = study.knobs.size() > 1 ? knobSettings(study.knobs[1]) : std::vector<KnobSetting>{};
-  for (size_t g = 0; g < groups; ++g) {
+      if (std::find(lines.begin(), lines.end(), k.series) == lines.end()) lines.push_back(k.series);
+  const auto lineOf = [&](const StudyRow& r) -> std::string {
+    if (twoKnobs) return r.knobLabels[1];
+    const auto k = std::find_if(first.begin(), first.end(), [&](const KnobSetting& s) { return s.label == r.knobLabels[0]; });
+    return k == first.end() ? std::string() : k->series;
+  };
+  for (const std::string& key : lines) {
     PlotSeries s;
     s.markers = true;
-    if (study.knobs.size() > 1) s.label = study.knobs[1].name + " = " + second[g].label;
-    else s.label = study.knobs[0].name;
+    s.label = twoKnobs ? study.knobs[1].name + " = " + key : key.empty() ? study.knobs[0].name : key;
     for (const StudyRow& r : rows) {
-      if (study.knobs.size() > 1 && r.knobLabels[1] != second[g].label) continue;
-      if (!r.ok) continue;
+      if (!r.ok || lineOf(r) != key) continue;
       s.x.push_back(r.totalSeconds);
       s.y.push_back(r.error);
-      s.pointLabels.push_back(r.knobLabels[0]);
+      std::string point = r.knobLabels[0];
+      if (named && !key.empty() && point.rfind(key, 0) == 0) {
+        point.erase(0, key.size());
+        point.erase(0, point.find_first_not_of(", "));
+      }
+      s.pointLabels.push_back(point);
     }
     plot.series.push_back(std::move(s));
   }

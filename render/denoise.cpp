@@ -37,7 +37,7 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
   // The noise falls as 1/sqrt(samples): so does the colour difference that marks an edge.
   const float colourSigma = s.colourSigma * float(std::sqrt(4.0 / samplesPerPixel));
   std::vector<Vector3f> current(n), next(n);
-  std::vector<float> brightness(n);
+  std::vector<float> mean(n);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
@@ -50,7 +50,6 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
     const float sigma = colourSigma * std::pow(0.7071f, float(pass));  // narrower as the noise goes
     const float invColour = 1.0f / (sigma * sigma);
     // Each pixel's mean channel, for the relative colour distance.
-    std::vector<float>& mean = brightness;
     tbb::parallel_for(size_t(0), n, [&](size_t i) { mean[i] = current[i].sum() / 3.0f; });
     // Rows in parallel: each pass reads `current` and writes its own rows of `next`, so the result
     // does not depend on the thread count.

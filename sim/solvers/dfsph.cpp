@@ -64,7 +64,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   change_.resize(n);
   rate_.resize(n);
   const size_t chunks = c.neighbors.chunkCount();
-  gradients_.resize(chunks);
+  slopes_.resize(chunks);
   const float dRef = 2.0f * kernel_.sigma * kernel_.invH;  // largest |dW/dr|, at r = h / 3
   position_.resize(n);
   velocity_.resize(n);
@@ -74,7 +74,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   });
   loadVelocities(p);
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
-    std::vector<float>& g = gradients_[ch];
+    std::vector<float>& g = slopes_[ch];
     g.resize(c.neighbors.chunkSize(ch));  // capacity kept between steps
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
@@ -156,7 +156,7 @@ void DfsphSolver::densityRate(const SolverContext& c) {
   const Float4* v = velocity_.data();
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
-    const float* s0 = gradients_[ch].data();
+    const float* s0 = slopes_[ch].data();
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
       const Float4 xi = x[i], vi = v[i];
       const float* s = s0 + c.neighbors.offset(i);
@@ -183,7 +183,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
   Float4* v = velocity_.data();
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
-    const float* s0 = gradients_[ch].data();
+    const float* s0 = slopes_[ch].data();
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
       const float ki = k[i];
       const Float4 xi = x[i];
@@ -259,7 +259,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
 size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity()) *
              sizeof(float) + active_.capacity();
-  for (const auto& g : gradients_) b += g.capacity() * sizeof(float);
+  for (const auto& g : slopes_) b += g.capacity() * sizeof(float);
   return b;
 }
 

@@ -82,6 +82,8 @@ private:
   // Four floats in one SIMD register (GCC and Clang vector extension): x, y, z and a fourth
   // value, so that a neighbour's data is one load and a pair's arithmetic one instruction each
   // (every float operation in the order of the scalar loops it replaced: the same results).
+  // Measured on bench sim's dam break: forming grad W_ij from scalar position arrays instead took
+  // 25 % longer a step; packed, one float a pair runs as fast as three stored ones did.
   using Float4 = float __attribute__((vector_size(16)));
   // velocity_ <- the particles' velocities (fourth lane 0), and back.
   void loadVelocities(const ParticleSet& p);
@@ -99,8 +101,8 @@ private:
   float maxDensityError_, maxDivergenceError_;  // fractions
   int maxIterations_, maxDivergenceIterations_;
   // Per neighbour chunk, one float per neighbour entry: W'(r_ij) / r_ij, so that
-  // grad W_ij = gradients_ (x_i - x_j) (positions do not move during the solves).
-  std::vector<std::vector<float>> gradients_;
+  // grad W_ij = slopes_ (x_i - x_j) (positions do not move during the solves).
+  std::vector<std::vector<float>> slopes_;
   // During the solves (positions do not move, velocities are the unknowns' image): per particle
   // (x, y, z, w_j), w_j the density rate's weight (m_j, or m_j / rho0_j for density_sum
   // "volume"), and (vx, vy, vz, 0); written back to the particles after each solve.
