@@ -5,12 +5,30 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <bit>
 #include <type_traits>
 #include <cmath>
 
 namespace kurage::sim {
 
 namespace {
+// Appends the candidates j in [first, last) within sqrt(h2) of (xi, yi, zi), other than `self`,
+// to out and their r^2 (its bits) to d2 from index `found`, without a branch: every candidate is written
+// and the count advances only for a neighbour. Returns the new count. (Restricted pointers: the
+// stores cannot alias the positions, so nothing is reloaded after them.)
+inline size_t sift(const float* __restrict x, const float* __restrict y, const float* __restrict z, float xi,
+                   float yi, float zi, float h2, uint32_t self, uint32_t first, uint32_t last,
+                   uint32_t* __restrict out, uint32_t* __restrict d2, size_t found) {
+  for (uint32_t j = first; j < last; ++j) {
+    const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
+    const float r2 = dx * dx + dy * dy + dz * dz;
+    out[found] = j;
+    d2[found] = std::bit_cast<uint32_t>(r2);
+    found += size_t((r2 < h2) & (j != self));
+  }
+  return found;
+}
+
 // Poly6 with the paper's arithmetic (no square root); other kernels through fromSquared().
 template <DensitySum Form, class Kernel>
 void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel& kernel,
@@ -31,6 +49,8 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
     std::vector<uint32_t>& buffer = neighbors.chunk(c);
     buffer.clear();
     std::array<std::array<uint32_t, 2>, 9> ranges;
+    std::array<uint32_t, 1024> local;
+    std::vector<uint32_t>& overflow = neighbors.scratch(c);
     const size_t last = std::min(count, (c + 1) * NeighborLists::kChunk);
     for (size_t i = c * NeighborLists::kChunk; i < last; ++i) {
       const float xi = x[i], yi = y[i], zi = z[i];
@@ -40,23 +60,26 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
       const size_t begin = buffer.size();
       buffer.resize(begin + candidates);  // capacity is kept between steps
       uint32_t* out = buffer.data() + begin;
+      // The candidates' r^2 (bits), on the stack unless there are unusually many.
+      if (candidates > local.size() && overflow.size() < candidates) overflow.resize(candidates);
+      uint32_t* d2 = candidates > local.size() ? overflow.data() : local.data();
       size_t found = 0;
       auto weight = [&](uint32_t j) { return Form == DensitySum::Mass ? m[j] : m[j] / rho0[j]; };
       // the particle itself, r = 0
       float sum = isPoly6 ? weight(uint32_t(i)) * h2 * h2 * h2 : weight(uint32_t(i)) * kernel.fromSquared(0.0f);
+      // Two passes: the candidates are sifted without a branch (every one is written, the count
+      // advances only for a neighbour: about one candidate in seven is, so a branch would be
+      // mispredicted for most neighbours), then the neighbours' weights are summed in order.
       for (int r = 0; r < n; ++r)
-        for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
-          const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
-          const float r2 = dx * dx + dy * dy + dz * dz;
-          if (r2 >= h2 || j == i) continue;
-          if constexpr (isPoly6) {
-            const float t = h2 - r2;
-            sum += weight(j) * t * t * t;
-          } else {
-            sum += weight(j) * kernel.fromSquared(r2);
-          }
-          out[found++] = j;
+        found = sift(x, y, z, xi, yi, zi, h2, uint32_t(i), ranges[r][0], ranges[r][1], out, d2, found);
+      for (size_t k = 0; k < found; ++k) {
+        if constexpr (isPoly6) {
+          const float t = h2 - std::bit_cast<float>(d2[k]);
+          sum += weight(out[k]) * t * t * t;
+        } else {
+          sum += weight(out[k]) * kernel.fromSquared(std::bit_cast<float>(d2[k]));
         }
+      }
       buffer.resize(begin + found);
       neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));
       const float scale = Form == DensitySum::Mass ? 1.0f : rho0[i];

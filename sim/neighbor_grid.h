@@ -60,6 +60,8 @@ public:
   void resize(size_t particles);
   size_t chunkCount() const { return chunks_.size(); }
   std::vector<uint32_t>& chunk(size_t c) { return chunks_[c]; }
+  // The builder's scratch for chunk c, where its own does not suffice (kept between steps).
+  std::vector<uint32_t>& scratch(size_t c) { return scratch_[c]; }
 
   // Called by the builder of chunk i / kChunk, in particle order within the chunk.
   void setRange(size_t i, uint32_t begin, uint32_t end) { begin_[i] = begin; end_[i] = end; }
@@ -76,6 +78,7 @@ public:
 
 private:
   std::vector<std::vector<uint32_t>> chunks_;
+  std::vector<std::vector<uint32_t>> scratch_;
   std::vector<uint32_t> begin_, end_;
 };
 

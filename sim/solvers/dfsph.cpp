@@ -12,6 +12,7 @@ constexpr int kMinDensityIterations = 2;     // Bender & Koschier 2017, Algorith
 constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergence solve
 constexpr float kMirror = 2.0f;               // the wall's pressure counts with the particle's (header)
 constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
+constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergence pressure
 }  // namespace
 
 DfsphSolver::DfsphSolver(const FluidParams& fluid)
@@ -47,11 +48,13 @@ void DfsphSolver::setInitialPressure(const std::vector<float>& piById) { piById_
 void DfsphSolver::saveState(StateWriter& out) const {
   PressureSolver::saveState(out);
   out.array(piById_);
+  out.array(qById_);
 }
 
 void DfsphSolver::restoreState(StateReader& in) {
   PressureSolver::restoreState(in);
   in.array(piById_, uint64_t(1) << 32);
+  in.array(qById_, uint64_t(1) << 32);
 }
 
 void DfsphSolver::afterDensity(const SolverContext& c) {
@@ -114,6 +117,15 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   if (maxDivergenceIterations_ <= 0 || !(c.lastStep > 0.0f) || n == 0) return;
   int iterations = 0;
   double error = 0.0;
+  // Warm start (header): half of each fluid particle's q of the previous step, by id.
+  qSum_.assign(n, 0.0f);
+  bool warm = false;
+  for (size_t i = 0; i < n; ++i) {
+    const size_t id = size_t(p.id[i]);
+    qSum_[i] = active_[i] && p.kind[i] == 0 && id < qById_.size() ? kDivergenceWarmStart * qById_[id] : 0.0f;
+    warm = warm || qSum_[i] != 0.0f;
+  }
+  if (warm) applyPressure(c, qSum_.data(), 1.0f);
   for (;;) {
     densityRate(c);
     const double sum = orderedSum(n, [&](size_t i) {
@@ -131,9 +143,14 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     if (error <= maxDivergenceError_) break;
     if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
     applyPressure(c, change_.data(), 1.0f);  // q = dt pi^v: the step cancels (2017, eq. 16)
+    for (size_t i = 0; i < n; ++i) qSum_[i] += change_[i];
     ++iterations;
   }
   storeVelocities(p);
+  int64_t maxId = -1;
+  for (size_t i = 0; i < n; ++i) maxId = std::max(maxId, p.id[i]);
+  qById_.assign(size_t(maxId + 1), 0.0f);
+  for (size_t i = 0; i < n; ++i) qById_[size_t(p.id[i])] = qSum_[i];
   stats_.divergenceIterations += uint64_t(iterations);
   stats_.maxDivergenceIterations = std::max(stats_.maxDivergenceIterations, iterations);
   stats_.lastDivergenceError = error;
@@ -257,7 +274,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
 }
 
 size_t DfsphSolver::memoryBytes() const {
-  size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity()) *
+  size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity()) *
              sizeof(float) + active_.capacity();
   for (const auto& g : slopes_) b += g.capacity() * sizeof(float);
   return b;
