@@ -60,25 +60,33 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
       const size_t begin = buffer.size();
       buffer.resize(begin + candidates);  // capacity is kept between steps
       uint32_t* out = buffer.data() + begin;
-      // The candidates' r^2 (bits), on the stack unless there are unusually many.
-      if (candidates > local.size() && overflow.size() < candidates) overflow.resize(candidates);
-      uint32_t* d2 = candidates > local.size() ? overflow.data() : local.data();
       size_t found = 0;
       auto weight = [&](uint32_t j) { return Form == DensitySum::Mass ? m[j] : m[j] / rho0[j]; };
       // the particle itself, r = 0
       float sum = isPoly6 ? weight(uint32_t(i)) * h2 * h2 * h2 : weight(uint32_t(i)) * kernel.fromSquared(0.0f);
-      // Two passes: the candidates are sifted without a branch (every one is written, the count
-      // advances only for a neighbour: about one candidate in seven is, so a branch would be
-      // mispredicted for most neighbours), then the neighbours' weights are summed in order.
-      for (int r = 0; r < n; ++r)
-        found = sift(x, y, z, xi, yi, zi, h2, uint32_t(i), ranges[r][0], ranges[r][1], out, d2, found);
-      for (size_t k = 0; k < found; ++k) {
-        if constexpr (isPoly6) {
-          const float t = h2 - std::bit_cast<float>(d2[k]);
-          sum += weight(out[k]) * t * t * t;
-        } else {
-          sum += weight(out[k]) * kernel.fromSquared(std::bit_cast<float>(d2[k]));
-        }
+      if constexpr (isPoly6) {
+        // The paper's kernel is cheap: one pass, a branch per candidate (measured faster here
+        // than the two passes below: 12.6 against 15.7 ms a step on bench sim's 100k dam break).
+        for (int r = 0; r < n; ++r)
+          for (uint32_t j = ranges[r][0]; j < ranges[r][1]; ++j) {
+            const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
+            const float r2 = dx * dx + dy * dy + dz * dz;
+            if (r2 >= h2 || j == i) continue;
+            const float t = h2 - r2;
+            sum += weight(j) * t * t * t;
+            out[found++] = j;
+          }
+      } else {
+        // The cubic spline's square root and two-piece formula: first the candidates are sifted
+        // without a branch (every one is written, the count advances only for a neighbour), then
+        // the neighbours' weights are summed in order (the same sum as in one pass; measured: 35
+        // against 23 ms a step with DFSPH on bench sim's 100k dam break). Their r^2 is kept on
+        // the stack, unless there are unusually many (a scratch buffer per chunk then).
+        if (candidates > local.size() && overflow.size() < candidates) overflow.resize(candidates);
+        uint32_t* d2 = candidates > local.size() ? overflow.data() : local.data();
+        for (int r = 0; r < n; ++r)
+          found = sift(x, y, z, xi, yi, zi, h2, uint32_t(i), ranges[r][0], ranges[r][1], out, d2, found);
+        for (size_t k = 0; k < found; ++k) sum += weight(out[k]) * kernel.fromSquared(std::bit_cast<float>(d2[k]));
       }
       buffer.resize(begin + found);
       neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));
