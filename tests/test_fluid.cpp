@@ -164,3 +164,47 @@ TEST(Determinism, BitIdenticalWithOneAndTwoThreads) {
   const ParticleSet one = runWith(1), two = runWith(2);
   EXPECT_TRUE(sameState(one, two));
 }
+
+// The cubic spline's density pass sifts candidates into a stack buffer of 1,024 and a per-chunk
+// buffer past that (fluid.cpp): both give the brute-force sum and neighbour set, here with a
+// clump of 1,500 particles inside one cell beside a sparse cloud.
+TEST(DensityPass, CubicSplineMatchesBruteForceAlsoPastTheStackBuffer) {
+  const CubicSplineKernel kernel(1.0f);
+  ParticleSet particles;
+  uint32_t state = 12345u;
+  const auto uniform = [&]() {
+    state = state * 1664525u + 1013904223u;
+    return float(state >> 8) * 0x1p-24f;
+  };
+  for (int k = 0; k < 1500; ++k)
+    particles.add(2.2f + 0.5f * uniform(), 2.2f + 0.5f * uniform(), 2.2f + 0.5f * uniform(), 0, 0, 0, 1000.0f, 0.01f, k, 0);
+  for (int k = 0; k < 400; ++k)
+    particles.add(5.0f * uniform(), 5.0f * uniform(), 5.0f * uniform(), 0, 0, 0, 1000.0f, 0.01f, 1500 + k, 0);
+  NeighborGrid grid;
+  grid.configure(Eigen::Vector3f::Zero(), Eigen::Vector3f::Constant(5.0f), kernel.h);
+  std::vector<uint32_t> order;
+  grid.sort(particles.x.data(), particles.y.data(), particles.z.data(), particles.size(), order);
+  ParticleSet scratch;
+  particles.permute(order, scratch);
+  NeighborLists neighbors;
+  computeDensity(grid, particles, kernel, neighbors, WallSums{});
+  size_t pastStack = 0;
+  for (size_t i = 0; i < particles.size(); ++i) {
+    double expected = particles.mass[i] * kernel.fromSquared(0.0f);
+    std::vector<uint32_t> within;
+    for (size_t j = 0; j < particles.size(); ++j) {
+      const float dx = particles.x[j] - particles.x[i], dy = particles.y[j] - particles.y[i],
+                  dz = particles.z[j] - particles.z[i];
+      const float r2 = dx * dx + dy * dy + dz * dz;
+      if (j == i || !(r2 < kernel.h2)) continue;
+      within.push_back(uint32_t(j));
+      expected += particles.mass[j] * kernel.fromSquared(r2);
+    }
+    std::vector<uint32_t> found(neighbors.begin(i), neighbors.end(i));
+    std::sort(found.begin(), found.end());
+    ASSERT_EQ(found, within) << "particle " << i;
+    EXPECT_NEAR(particles.density[i], expected, 1e-4 * expected) << "particle " << i;
+    pastStack += within.size() > 1024 ? 1 : 0;
+  }
+  EXPECT_GE(pastStack, 1000u) << "the clump's particles have more candidates than the stack buffer";
+}
