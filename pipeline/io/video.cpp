@@ -1,6 +1,7 @@
 #include "pipeline/io/video.h"
 
 #include "pipeline/io/files.h"
+#include "pipeline/io/process.h"
 
 #include <cerrno>
 #include <cstdio>
@@ -17,48 +18,6 @@ namespace kurage::pipeline {
 namespace fs = std::filesystem;
 
 namespace {
-
-// Runs a program with arguments (no shell), its stdout and stderr captured together into
-// *output; returns its exit status (127: it could not be started), or -1 when no process could be
-// made or it was killed by a signal. It is killed if kurage dies first.
-int runProgram(const std::vector<std::string>& argv, std::string* output) {
-  std::vector<char*> args;
-  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
-  int pipeFds[2];
-  if (::pipe(pipeFds) != 0) return -1;
-  const pid_t parent = ::getpid();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    // The program dies with kurage: killed with SIGKILL mid-video, an orphaned ffmpeg went on and
-    // recreated its temporary after the next run had cleared the dead run's (tests/test_resume.cpp).
-    ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-    if (::getppid() != parent) ::_exit(127);
-    ::close(pipeFds[0]);
-    ::dup2(pipeFds[1], STDOUT_FILENO);
-    ::dup2(pipeFds[1], STDERR_FILENO);
-    ::close(pipeFds[1]);
-    ::execvp(args[0], args.data());
-    ::_exit(127);
-  }
-  ::close(pipeFds[1]);
-  if (pid < 0) {
-    ::close(pipeFds[0]);
-    return -1;
-  }
-  char buffer[4096];
-  while (true) {
-    const ssize_t n = ::read(pipeFds[0], buffer, sizeof buffer);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    output->append(buffer, size_t(n));
-  }
-  ::close(pipeFds[0]);
-  int status = 0;
-  while (waitpid(pid, &status, 0) != pid)
-    if (errno != EINTR) return -1;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
 
 std::string trimmed(std::string text) {
   while (!text.empty() && (text.back() == '\n' || text.back() == '\r' || text.back() == ' ')) text.pop_back();

@@ -1,12 +1,12 @@
 #include "pipeline/studies/plot.h"
 
 #include "pipeline/io/files.h"
+#include "pipeline/io/process.h"
 
 #include <cmath>
 #include <cstdio>
 #include <sstream>
 #include <stdexcept>
-#include <sys/wait.h>
 
 namespace kurage::pipeline {
 
@@ -158,16 +158,13 @@ void writePlot(const Plot& plot, const fs::path& png) {
                  base.string().c_str());
     return;
   }
-  // gnuplot draws into unique temporaries (pipeline/io/files.h), committed only when it succeeded.
-  TempFile pngFile(finals.png), svgFile(finals.svg), pdfFile(finals.pdf), log(base.string() + ".log");
-  const std::string command = "gnuplot > " + log.path().string() + " 2>&1";
-  FILE* gnuplot = popen(command.c_str(), "w");
-  if (!gnuplot) throw IoError(finals.png.string() + ": cannot start gnuplot");
-  const std::string script = gnuplotScript(plot, {pngFile.path(), svgFile.path(), pdfFile.path()});
-  const bool written = std::fwrite(script.data(), 1, script.size(), gnuplot) == script.size();
-  const int status = pclose(gnuplot);
-  if (!written || !(WIFEXITED(status) && WEXITSTATUS(status) == 0))
-    throw IoError(finals.png.string() + ": gnuplot failed: " + readText(log.path()));
+  // gnuplot draws into unique temporaries (pipeline/io/files.h), committed only when it succeeded,
+  // from a script in a temporary of its own; it dies with kurage (process.h).
+  TempFile pngFile(finals.png), svgFile(finals.svg), pdfFile(finals.pdf), script(base.string() + ".gp");
+  script.write(gnuplotScript(plot, {pngFile.path(), svgFile.path(), pdfFile.path()}));
+  std::string log;
+  if (runProgram({"gnuplot", script.path().string()}, &log) != 0)
+    throw IoError(finals.png.string() + ": gnuplot failed: " + log);
   pngFile.commit();
   svgFile.commit();
   pdfFile.commit();
