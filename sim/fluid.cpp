@@ -13,9 +13,8 @@ namespace kurage::sim {
 
 namespace {
 // Appends the candidates j in [first, last) within sqrt(h2) of (xi, yi, zi), other than `self`,
-// to out and their r^2 (its bits) to d2 from index `found`, without a branch: every candidate is written
-// and the count advances only for a neighbour. Returns the new count. (Restricted pointers: the
-// stores cannot alias the positions, so nothing is reloaded after them.)
+// to out and their r^2 (its bits) to d2 from index `found`, without a branch: every candidate is
+// written and the count advances only for a neighbour. Returns the new count.
 inline size_t sift(const float* __restrict x, const float* __restrict y, const float* __restrict z, float xi,
                    float yi, float zi, float h2, uint32_t self, uint32_t first, uint32_t last,
                    uint32_t* __restrict out, uint32_t* __restrict d2, size_t found) {

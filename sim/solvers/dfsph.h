@@ -91,6 +91,9 @@ private:
   // velocity_ <- the particles' velocities (fourth lane 0), and back.
   void loadVelocities(const ParticleSet& p);
   void storeVelocities(ParticleSet& p) const;
+  // byId[p.id[i]] = values[i], sized to the largest id + 1 (0 for ids no particle has): the
+  // warm starts, kept by id because sorting reorders the particles.
+  static void storeById(const ParticleSet& p, const std::vector<float>& values, std::vector<float>& byId);
   // Drho_i/Dt of velocity_, per particle, into rate_.
   void densityRate(const SolverContext& c);
   // velocity_ -= scale [sum_j m_j (k_i + k_j) grad W_ij + rho0_i k_i gB_i] for the per-particle k.
