@@ -181,6 +181,7 @@ SolverContext Simulation::solverContext() {
     c.boundaryLift = boundaryLift_.data();
   }
   c.lastStep = lastStep_;
+  c.gravity = params_.gravity;
   return c;
 }
 

@@ -83,8 +83,8 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
       const float xi = p.x[i], yi = p.y[i], zi = p.z[i], rho0i = p.restDensity[i];
       Eigen::Vector3f gb = Eigen::Vector3f::Zero();
-      if (c.boundaryGradient) gb = rho0i * Eigen::Vector3f(c.boundaryGradient + 3 * i);
-      Eigen::Vector3f F = kMirror * gb, G = kMirror * gb;  // mirrored wall: see the header
+      if (c.boundaryGradient) gb = wallWeight(p, i) * Eigen::Vector3f(c.boundaryGradient + 3 * i);
+      Eigen::Vector3f F = kMirror * gb;  // mirrored wall: see the header
       float S = 0.0f;
       float* out = g.data() + c.neighbors.offset(i);
       for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++out) {
@@ -94,13 +94,12 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
         const float s = r > 1e-6f * kernel_.h ? kernel_.derivative(r) / r : 0.0f;
         *out = s;
         const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
-        const float w = form_ == DensitySum::Mass ? p.mass[j] : rho0i * p.mass[j] / p.restDensity[j];
+        const float w = position_[j][3];  // m_j, or V_j
         F += w * grad;
-        G += p.mass[j] * grad;
-        S += w * grad.squaredNorm();
+        S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * grad.squaredNorm();
       }
-      const float D = F.dot(G) + p.mass[i] * S;  // (2017, eq. 13)
-      const float ref = p.mass[i] * dRef;
+      const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
+      const float ref = position_[i][3] * dRef;
       invFactor_[i] = D > 1e-6f * ref * ref ? 1.0f / D : 0.0f;
       active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i;
       // Jacobi's largest eigenvalue grows with the neighbour count: a body at half the fluid
@@ -122,7 +121,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   bool warm = false;
   for (size_t i = 0; i < n; ++i) {
     const size_t id = size_t(p.id[i]);
-    qSum_[i] = active_[i] && p.kind[i] == 0 && id < qById_.size() ? kDivergenceWarmStart * qById_[id] : 0.0f;
+    qSum_[i] = active_[i] && p.kind[i] == 0 && id < qById_.size() ? kDivergenceWarmStart * qById_[id] * unit(p, i) : 0.0f;
     warm = warm || qSum_[i] != 0.0f;
   }
   if (warm) applyPressure(c, qSum_.data(), 1.0f);
@@ -147,6 +146,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     ++iterations;
   }
   storeVelocities(p);
+  for (size_t i = 0; i < n; ++i) qSum_[i] /= unit(p, i);
   storeById(p, qSum_, qById_);
   stats_.divergenceIterations += uint64_t(iterations);
   stats_.maxDivergenceIterations = std::max(stats_.maxDivergenceIterations, iterations);
@@ -212,15 +212,17 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       Float4 a = {0.0f, 0.0f, 0.0f, 0.0f};
       for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
         const uint32_t j = *it;
-        a += (p.mass[j] * (ki + k[j])) * (*sp * (xi - x[j]));  // m_j (k_i + k_j) grad W_ij
+        const Float4 xj = x[j];
+        a += (xj[3] * (ki + k[j])) * (*sp * (xi - xj));  // w_j (k_i + k_j) grad W_ij
       }
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
-        const float s = kMirror * p.restDensity[i] * ki;  // psi_b (pi_i + pi_b), pi_b = pi_i
+        const float s = kMirror * wallWeight(p, i) * ki;  // psi_b (k_i + k_b), k_b = k_i
         a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
       }
       a[3] = 0.0f;  // the weights' lane
-      v[i] -= scale * a;  // (2017, eq. 7)
+      if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
+      v[i] -= scale * a;  // (2017, eq. 7; header)
     }
   });
 }
@@ -232,7 +234,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
   bool warm = false;
   for (size_t i = 0; i < n; ++i) {
     const size_t id = size_t(p.id[i]);
-    pi_[i] = id < piById_.size() ? piById_[id] : 0.0f;
+    pi_[i] = id < piById_.size() ? piById_[id] * unit(p, i) : 0.0f;
     warm = warm || pi_[i] != 0.0f;
   }
   loadVelocities(p);  // v*
@@ -244,6 +246,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
       const float* lift = c.boundaryLift + 3 * i;
       velocity_[i] -= dt * Float4{lift[0], lift[1], lift[2], 0.0f};
     }
+  if (c.boundaryGradient) wetWalls(c, dt);
   const float invDt2 = 1.0f / (dt * dt);
   int iterations = 0;
   double error = 0.0;
@@ -263,13 +266,56 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     ++iterations;
   }
   storeVelocities(p);
+  for (size_t i = 0; i < n; ++i) {
+    pi_[i] /= unit(p, i);
+    p.pressure[i] = pi_[i] * p.density[i] * p.density[i];
+  }
   storeById(p, pi_, piById_);
-  for (size_t i = 0; i < n; ++i) p.pressure[i] = pi_[i] * p.density[i] * p.density[i];
   stats_.densityIterations += uint64_t(iterations);
   stats_.maxDensityIterations = std::max(stats_.maxDensityIterations, iterations);
   stats_.lastDensityError = error;
   stats_.maxDensityError = std::max(stats_.maxDensityError, error);
   stats_.sumDensityError += error;
+}
+
+void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
+  const ParticleSet& p = c.particles;
+  const size_t n = p.size();
+  const float rho0 = c.fluid.restDensity;
+  // Per body: the mean of p_j - rho0 g . x_j over its particles' fluid neighbours (last step's
+  // pressures), so that the film's pressure at x is that mean + rho0 g . x.
+  int bodies = 0;
+  bool touching = false;  // some body particle within a wall's reach
+  for (size_t i = 0; i < n; ++i) {
+    if (p.kind[i] == 0) continue;
+    bodies = std::max(bodies, int(p.kind[i]));
+    const float* gb = c.boundaryGradient + 3 * i;
+    touching = touching || gb[0] != 0.0f || gb[1] != 0.0f || gb[2] != 0.0f;
+  }
+  if (!touching) return;
+  headSum_.assign(size_t(bodies) + 1, 0.0);
+  headCount_.assign(size_t(bodies) + 1, 0.0);
+  for (size_t i = 0; i < n; ++i) {
+    if (p.kind[i] == 0) continue;
+    for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it)
+      if (p.kind[*it] == 0) {
+        const uint32_t j = *it;
+        headSum_[size_t(p.kind[i])] += double(p.pressure[j]) -
+                                       double(rho0) * (c.gravity.x() * p.x[j] + c.gravity.y() * p.y[j] + c.gravity.z() * p.z[j]);
+        headCount_[size_t(p.kind[i])] += 1.0;
+      }
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const size_t k = size_t(p.kind[i]);
+    if (k == 0 || headCount_[k] == 0.0) continue;
+    const float* gb = c.boundaryGradient + 3 * i;
+    if (gb[0] == 0.0f && gb[1] == 0.0f && gb[2] == 0.0f) continue;
+    const float film = float(headSum_[k] / headCount_[k]) +
+                       rho0 * (c.gravity.x() * p.x[i] + c.gravity.y() * p.y[i] + c.gravity.z() * p.z[i]);
+    const float extra = std::max(0.0f, film - p.pressure[i]);  // the wall's p_b = max(p_i, film)
+    const float s = dt * extra / p.restDensity[i];
+    velocity_[i] -= Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
+  }
 }
 
 size_t DfsphSolver::memoryBytes() const {

@@ -3,27 +3,45 @@
 // 23(3), 2017): two Jacobi-style solvers on velocities, each with a per-particle factor.
 //
 // Notation (ours, one set of equations for fluid and telescopic-body particles alike, each with
-// its own rest density rho0_i, so (8)-(10) still act): pi_i = p_i / rho_i^2, and the pressure
-// changes velocities by
-//   dv_i = -dt [ sum_j m_j (pi_i + pi_j) grad W_ij + 2 rho0_i pi_i gB_i ]        (2017, eq. 7, 10)
-// where gB_i = sum_b V_b grad W_ib over the wall's boundary particles, which carry the particle's
-// own pressure (Akinci 2012, mirrored: pi_b = pi_i, hence the 2). With a factor 1 instead, the
-// symmetric sum leaves a particle on a flat wall with no push of its own away from it: the
-// fluid-only part of sum_j m_j pi_i grad W_ij cancels the wall's term, and the neighbours above
-// press it into the wall (measured: the floor layer sank into the wall within five steps).
-// The density's rate of change, with s_i w_j = m_j (density_sum "mass") or rho0_i m_j / rho0_j
+// its own rest density rho0_i, so (8)-(10) still act). With density_sum "mass" (rho_i =
+// sum_j m_j W_ij) the unknown is k_i = p_i / rho_i^2 and the pressure changes velocities by
+//   dv_i = -dt [ sum_j m_j (k_i + k_j) grad W_ij + 2 rho0_i k_i gB_i ]           (2017, eq. 7, 10)
+// With "volume" (rho_i = rho0_i sum_j V_j W_ij, V_j = m_j / rho0_j) the unknown is the pressure
+// P_i = k_i rho0_i^2 and the push is the transpose of that density's rate (the gradient of its
+// potential energy, so the system the solves iterate on is symmetric when rest densities differ):
+//   dv_i = -(dt / rho0_i) [ sum_j V_j (P_i + P_j) grad W_ij + 2 P_i gB_i ]
+// For one rest density the two are the same equation. gB_i = sum_b V_b grad W_ib over the wall's
+// boundary particles, which carry the particle's own pressure (Akinci 2012, mirrored: k_b = k_i,
+// hence the 2). With a factor 1 instead, the symmetric sum leaves a particle on a flat wall with
+// no push of its own away from it: the fluid-only part of sum_j m_j k_i grad W_ij cancels the
+// wall's term, and the neighbours above press it into the wall (measured: the floor layer sank
+// into the wall within five steps).
+// (The mass form's push with the volume form's density rate, used before, is not symmetric
+// between a body particle and the fluid: a box resting on the floor of box.json made the
+// constant-density solve diverge, its pressure growing 2.5-fold an iteration, and the run stopped
+// with a non-finite velocity at t = 16.8 s; docs/PHYSICS.md.)
+// The density's rate of change, with w_j = m_j and s_i = 1 ("mass") or w_j = V_j, s_i = rho0_i
 // ("volume"):
-//   Drho_i/Dt = s_i sum_j w_j (v_i - v_j) . grad W_ij + 2 rho0_i v_i . gB_i         (2017, eq. 9)
+//   Drho_i/Dt = s_i [ sum_j w_j (v_i - v_j) . grad W_ij ] + 2 rho0_i v_i . gB_i    (2017, eq. 9)
 // The wall's term is counted twice here too (ours): the exact rate has 1, but then the system
 // the Jacobi iteration solves is not symmetric at walls and its pressure grew without bound in
 // a checkerboard along the tank's edges (measured); with 2 it is symmetric, and at rest, where
 // the velocities vanish, the result is the same.
-// and pi_i alone (Jacobi) changes it by -dt^2 pi_i D_i with the factor
-//   D_i = F_i . G_i + m_i s_i sum_j w_j |grad W_ij|^2,                              (2017, eq. 13)
-//   F_i = s_i sum_j w_j grad W_ij + 2 rho0_i gB_i,  G_i = sum_j m_j grad W_ij + 2 rho0_i gB_i.
+// The unknown alone (Jacobi) changes it by -dt^2 k_i D_i with the factor (2017, eq. 13)
+//   D_i = |F_i|^2 + m_i sum_j c_j |grad W_ij|^2,  F_i = sum_j w_j grad W_ij + 2 c gB_i,
+// c_j = w_j, c = rho0_i ("mass"), or c_j = V_j / rho0_j, c = 1 ("volume").
+//
+// Walls wetted by the fluid (ours): a body resting on a wall has no fluid under it, so the mirrored
+// wall alone gives it no buoyancy there, and box.json's box, released on the floor, stayed on it
+// (a real box lifts as water seeps under it; a 1 m particle cannot). Under a body particle the
+// wall's pressure is therefore at least that of a film of the fluid at rest at its height: the
+// hydrostatic extrapolation p_film(x) = mean_j (p_j + rho0 g . (x - x_j)) over the body's fluid
+// neighbours j (last step's pressures), applied as the known push
+//   dv_i = -dt max(0, p_film(x_i) - p_i) gB_i / rho0_i
+// before the constant-density solve. Fluid particles and bodies away from walls are unaffected.
 //
 // Divergence solve (after the density pass, on the current velocities): q_i = w Drho_i/Dt / D_i
-// and v_i -= sum_j m_j (q_i + q_j) grad W_ij + 2 rho0_i q_i gB_i, until the mean of
+// and v_i changes by the push above with q for dt k (dt P), until the mean of
 // |Drho/Dt| dt / rho0 is below fluid.max_divergence_error (%), at most
 // max_divergence_iterations. It is warm-started with half of each fluid particle's total q of
 // the previous step (kept by id), as SPlisHSPlasH does (measured on bench sim's dam break: 8.2
@@ -41,15 +59,16 @@
 //
 // Constant-density solve (on v* = v + dt a_nonpressure): the predicted density
 // rho*_i = rho_i + dt Drho_i/Dt (with v*) should be rho0_i where the particle is compressed.
-// Each iteration sets pi_i <- max(0, pi_i + w (rho*_i - rho0_i) / (dt^2 D_i)) with w = 1/2 (a
+// Each iteration sets k_i <- max(0, k_i + w (rho*_i - rho0_i) / (dt^2 D_i)) with w = 1/2 (a
 // relaxed, projected Jacobi step as in IISPH, Ihmsen et al. 2014: pressure never pulls, and a
 // particle whose predicted density is below rest loses pressure; unrelaxed (w = 1), the
 // iteration diverged within a few steps on a still tank, measured) and applies the change; it
 // stops when the mean of
 // max(rho*_i - rho0_i, 0) / rho0_i is below fluid.max_density_error (%), after at least two
 // iterations (Bender & Koschier 2017, Alg. 3), at most max_iterations. It is warm-started with
-// each particle's pi of the previous step (kept by particle id, so sorting does not lose it),
-// or with the hydrostatic start's pressure. The particles' `pressure` is p_i = pi_i rho_i^2.
+// each particle's pi = p / rho^2 of the previous step (kept by particle id, so sorting does not
+// lose it; k_i = pi_i, or P_i = pi_i rho0_i^2), or with the hydrostatic start's pressure. The
+// particles' `pressure` is p_i = pi_i rho_i^2.
 //
 // Kernel: the cubic spline for the density sum and every gradient (kernels.h). Each neighbour
 // pair's W'(r)/r is computed once per step and every iteration forms grad W_ij from it and the
@@ -94,6 +113,16 @@ private:
   // byId[p.id[i]] = values[i], sized to the largest id + 1 (0 for ids no particle has): the
   // warm starts, kept by id because sorting reorders the particles.
   static void storeById(const ParticleSet& p, const std::vector<float>& values, std::vector<float>& byId);
+  // The wall's weight in the factor and the push (header): rho0_i for density_sum "mass", 1 for
+  // "volume" (whose unknowns are pressures).
+  float wallWeight(const ParticleSet& p, size_t i) const { return form_ == DensitySum::Mass ? p.restDensity[i] : 1.0f; }
+  // The solves' unknown per stored pi = p / rho^2: 1 for "mass", rho0_i^2 for "volume".
+  float unit(const ParticleSet& p, size_t i) const {
+    return form_ == DensitySum::Mass ? 1.0f : p.restDensity[i] * p.restDensity[i];
+  }
+  // Walls wetted by a film of the fluid under a body's particles (header): the push of the film's
+  // hydrostatic pressure where it exceeds the particle's own (last step's) pressure.
+  void wetWalls(const SolverContext& c, float dt);
   // Drho_i/Dt of velocity_, per particle, into rate_.
   void densityRate(const SolverContext& c);
   // velocity_ -= scale [sum_j m_j (k_i + k_j) grad W_ij + rho0_i k_i gB_i] for the per-particle k.
@@ -114,7 +143,7 @@ private:
   // "volume"), and (vx, vy, vz, 0); written back to the particles after each solve.
   std::vector<Float4> position_, velocity_;
   std::vector<float> invFactor_;               // 1 / D_i (0 where D_i vanishes)
-  std::vector<float> pi_;                      // pi_i of this step
+  std::vector<float> pi_;                      // the unknown of this step (k_i, or P_i; header)
   std::vector<float> change_;                  // per iteration: the pi (or q) change
   std::vector<float> rate_;                    // Drho/Dt
   std::vector<uint8_t> active_;                // divergence solve: 1 where rho_i >= 0.9 rho0_i
@@ -124,6 +153,7 @@ private:
   std::vector<float> piById_;                  // warm start, by particle id
   std::vector<float> qSum_;                    // divergence solve: this step's total q
   std::vector<float> qById_;                   // its warm start, by particle id
+  std::vector<double> headSum_, headCount_;    // wetWalls: per body kind
   SolverStats stats_;
 };
 
