@@ -58,16 +58,18 @@ Image denoise(const Image& noisy, const FeatureBuffers& features, const DenoiseS
 // tap weights (std::exp took a third of the filter's time). exp(-x) = 2^-n e^(-r) with n the
 // nearest integer to x / ln 2 and |r| <= ln 2 / 2, e^(-r) by its Taylor series to degree 4
 // (truncation below 4.2e-5), evaluated in two short chains, 2^-n written into the float's exponent.
+// Branch-free (a select, not a jump), so that loops over pixels calling it vectorise.
 inline float expNegative(float x) {
-  if (!(x < 80.0f)) return 0.0f;  // below float's normal range (e^-80 ~ 1.8e-35), and NaN
-  const float n = float(int(x * 1.44269504f + 0.5f));
-  const float r = x - n * 0.693147181f;  // |r| <= ln 2 / 2
+  const bool inRange = x < 80.0f;  // false below float's normal range (e^-80 ~ 1.8e-35), and for NaN
+  const float xc = inRange ? x : 80.0f;
+  const float n = float(int(xc * 1.44269504f + 0.5f));
+  const float r = xc - n * 0.693147181f;  // |r| <= ln 2 / 2
   const float r2 = r * r;
   const float e = (1.0f - r) + r2 * ((0.5f - r * (1.0f / 6.0f)) + r2 * (1.0f / 24.0f));
   const uint32_t bits = uint32_t(127 - int(n)) << 23;  // 2^-n, n <= 116
   float scale;
   std::memcpy(&scale, &bits, sizeof scale);
-  return e * scale;
+  return inRange ? e * scale : 0.0f;
 }
 
 }  // namespace kurage::render

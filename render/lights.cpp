@@ -86,6 +86,34 @@ EnvironmentSampler::EnvironmentSampler(const Environment& e, const Eigen::Vector
     marginal_[size_t(y) + 1] = marginal_[size_t(y)] + row;
   }
   total_ = marginal_.back();
+  rowGuide_.assign(size_t(height_) * size_t(width_), 0);
+  for (int y = 0; y < height_; ++y)
+    buildGuide(rowCdf_.data() + size_t(y) * size_t(width_ + 1), width_, rowGuide_.data() + size_t(y) * size_t(width_));
+  marginalGuide_.assign(size_t(height_), 0);
+  buildGuide(marginal_.data(), height_, marginalGuide_.data());
+}
+
+void EnvironmentSampler::buildGuide(const double* cdf, int count, int* guide) {
+  // guide[k]: the answer of find() for the target k / count of the total (a lower bound on the
+  // answer for any target in bucket k).
+  const double total = cdf[count];
+  int i = 0;
+  for (int k = 0; k < count; ++k) {
+    const double target = double(k) / double(count) * total;
+    while (i < count - 1 && cdf[i + 1] <= target) ++i;
+    guide[k] = i;
+  }
+}
+
+int EnvironmentSampler::find(const double* cdf, int count, const int* guide, double target) {
+  const double total = cdf[count];
+  int k = total > 0.0 ? int(target / total * double(count)) : 0;
+  k = std::clamp(k, 0, count - 1);
+  int i = guide[k];
+  if (cdf[i] > target)  // the guide overshot (rounding at a bucket's edge): search
+    return int(std::upper_bound(cdf + 1, cdf + count + 1, target) - cdf) - 1;
+  while (i < count - 1 && cdf[i + 1] <= target) ++i;
+  return i;
 }
 
 Eigen::Vector3f EnvironmentSampler::sample(float u1, float u2, float& pdf) const {
@@ -93,14 +121,13 @@ Eigen::Vector3f EnvironmentSampler::sample(float u1, float u2, float& pdf) const
   if (empty()) return up_;
   // Row by the marginal, then column within the row; both by inverting the cumulative sums.
   const double targetRow = double(u1) * total_;
-  const auto rowIt = std::upper_bound(marginal_.begin() + 1, marginal_.end(), targetRow);
-  const int y = std::clamp(int(rowIt - marginal_.begin()) - 1, 0, height_ - 1);
+  const int y = std::clamp(find(marginal_.data(), height_, marginalGuide_.data(), targetRow), 0, height_ - 1);
   const double rowWeight = marginal_[size_t(y) + 1] - marginal_[size_t(y)];
   if (!(rowWeight > 0.0)) return up_;
   const double dv = std::clamp((targetRow - marginal_[size_t(y)]) / rowWeight, 0.0, 1.0);
   const double* cdf = rowCdf_.data() + size_t(y) * size_t(width_ + 1);
   const double targetColumn = double(u2) * rowWeight;
-  const int x = std::clamp(int(std::upper_bound(cdf + 1, cdf + width_ + 1, targetColumn) - cdf) - 1, 0, width_ - 1);
+  const int x = std::clamp(find(cdf, width_, rowGuide_.data() + size_t(y) * size_t(width_), targetColumn), 0, width_ - 1);
   const float w = weights_[size_t(y) * size_t(width_) + size_t(x)];
   if (!(w > 0.0f)) return up_;
   const double du = std::clamp((targetColumn - cdf[x]) / double(w), 0.0, 1.0);

@@ -81,10 +81,17 @@ public:
 
 private:
   Eigen::Vector3f directionAt(float u, float v) const;
+  // std::upper_bound(cdf + 1, cdf + count + 1, target) - cdf - 1 (the last i with cdf[i] <= target),
+  // started from the guide table's entry for target / cdf[count] and scanned forward; the same
+  // index as the binary search (which it falls back to if the guide overshoots), in about one step.
+  static int find(const double* cdf, int count, const int* guide, double target);
+  static void buildGuide(const double* cdf, int count, int* guide);
   int width_ = 0, height_ = 0;
   std::vector<float> weights_;     // width x height, row-major (v rows)
   std::vector<double> rowCdf_;     // height x (width + 1): cumulative weights within each row
   std::vector<double> marginal_;   // height + 1: cumulative row sums
+  std::vector<int> rowGuide_;      // height x width: per row, the column search's guide table
+  std::vector<int> marginalGuide_; // height: the row search's guide table
   double total_ = 0.0;
   Eigen::Vector3f up_{0, 0, 1}, tangent_{1, 0, 0}, bitangent_{0, 1, 0};
   float rotation_ = 0.0f;  // radians
