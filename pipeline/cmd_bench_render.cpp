@@ -82,7 +82,7 @@ std::vector<BenchRow> rmseRows() {
                     }});
   for (int spp : {1, 4, 16, 64})
     rows.push_back({"path (default: sky MIS, split), " + std::to_string(spp) + " spp", [spp](S& s) { s.samplesPerPixel = spp; }});
-  for (int spp : {1, 3, 4, 5, 8, 10, 12, 16})
+  for (int spp : {1, 3, 4, 5, 6, 8, 10, 12, 16})
     rows.push_back({"path + denoiser, " + std::to_string(spp) + " spp", [spp](S& s) {
                       s.samplesPerPixel = spp;
                       s.denoise.enabled = true;
