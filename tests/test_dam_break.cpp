@@ -88,7 +88,7 @@ TEST(DamBreak, NoSlipWallsSlowTheSurge) {
 }
 
 // The same dam break with the incompressible solver and boundary-particle walls (Bender &
-// Koschier 2017; Akinci et al. 2012). Measured: surge front 5.1 %, column height 11.0 % (the
+// Koschier 2017; Akinci et al. 2012). Measured: surge front 5.1 %, column height 10.4 % (the
 // issue's target is 5 % each; WCSPH with wall weights: 6.7 / 4.2 %). Without the walls'
 // hydrostatic pressure 9.6 / 6.0 %; with it but a one-sided divergence solve 5.1 / 14.4 %.
 TEST(DamBreak, DfsphWithBoundaryParticlesMatchesMartinMoyceWithin12Percent) {

@@ -181,12 +181,14 @@ void DfsphSolver::densityRate(const SolverContext& c) {
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
       const Float4 xi = x[i], vi = v[i];
       const float* s = s0 + c.neighbors.offset(i);
-      float rate = 0.0f;
+      // Summed per axis in one register, the three axes added once at the end (a horizontal sum
+      // per pair cost about 10 % of a step).
+      Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
       for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++s) {
         const Float4 xj = x[*it];
-        const Float4 t = (vi - v[*it]) * (*s * (xi - xj));  // (v_i - v_j) * grad W_ij, per axis
-        rate += xj[3] * (t[0] + t[1] + t[2]);               // w_j (v_i - v_j) . grad W_ij
+        sum += xj[3] * ((vi - v[*it]) * (*s * (xi - xj)));  // w_j (v_i - v_j) * grad W_ij, per axis
       }
+      float rate = sum[0] + sum[1] + sum[2];
       if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
@@ -213,7 +215,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
         const uint32_t j = *it;
         const Float4 xj = x[j];
-        a += (xj[3] * (ki + k[j])) * (*sp * (xi - xj));  // w_j (k_i + k_j) grad W_ij
+        a += (*sp * (xj[3] * (ki + k[j]))) * (xi - xj);  // w_j (k_i + k_j) grad W_ij, the scalars first
       }
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
