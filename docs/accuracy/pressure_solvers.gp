@@ -10,20 +10,20 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-16.3196 0.000345072 "wcsph c20"
-51.0015 8.64162e-05 "wcsph c40"
-64.8549 2.07272e-05 "wcsph c80"
-288.401 4.74245e-06 "wcsph c160"
-62.7759 9.81243e-05 "wcsph c40 bp"
-59.2079 5.05281e-05 "wcsph c80 bp"
-4.96022 0.000731628 "dfsph 1%"
-4.78854 0.000614954 "dfsph 0.3%"
-4.56376 0.00054506 "dfsph 0.1%"
-4.71234 0.000433913 "dfsph 0.03%"
+11.5629 0.000344301 "wcsph c20"
+24.8859 8.65284e-05 "wcsph c40"
+46.0016 2.07458e-05 "wcsph c80"
+82.7093 4.72218e-06 "wcsph c160"
+32.1075 9.82773e-05 "wcsph c40 bp"
+54.0512 5.25438e-05 "wcsph c80 bp"
+3.76474 0.000744387 "dfsph 1%"
+3.36682 0.000629016 "dfsph 0.3%"
+3.55058 0.000550611 "dfsph 0.1%"
+4.32839 0.000439412 "dfsph 0.03%"
 EOD
 $series1 << EOD
-4.56376 0.001 ""
-288.401 0.001 ""
+3.36682 0.001 ""
+82.7093 0.001 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"
