@@ -712,6 +712,24 @@ TEST(WettedWalls, DfsphBuoyantBoxLeavesTheFloor) {
   EXPECT_GT(e.centre.z(), start + 1.0f) << "rose from the floor";
 }
 
+// box.json under DFSPH run as `kurage sim` runs it (to each frame time at the scene's 24 fps),
+// past its release on the floor at t = 15 s: with the mass form's pressure push beside the volume
+// form's density rate, the constant-density solve diverged at a body particle on the floor (its
+// pressure growing 2.5-fold an iteration) and the run stopped at t = 16.7 s with a non-finite
+// velocity (sim/solvers/dfsph.h).
+TEST(BoxSequenceAsRun, DfsphStaysFiniteThroughTheReleaseOnTheFloor) {
+  pipeline::Scene scene = sceneFile("box.json");
+  scene.sim.fluid.solver = "dfsph";
+  scene.sim.container.wallDensity = WallDensity::BoundaryParticles;
+  scene.sim.fluid.initialState = InitialState::Hydrostatic;
+  Simulation sim(scene.sim);
+  const int frames = int(std::lround(18.0 * scene.output.fps));
+  for (int f = 1; f <= frames; ++f) ASSERT_NO_THROW(sim.advanceTo(scene.output.frameTime(f))) << "frame " << f;
+  const ParticleSet& p = sim.particles();
+  for (size_t i = 0; i < p.size(); ++i) ASSERT_TRUE(std::isfinite(p.vx[i] + p.vy[i] + p.vz[i])) << i;
+  EXPECT_GT(bodyExtent(p, 1).min.z(), 0.5f) << "risen off the floor by t = 18 s";
+}
+
 // The paper's Fig. 3 with scenes/box.json: the state at the end of each phase of its force schedule.
 // The scene as written (the paper's WCSPH), or under DFSPH with boundary-particle walls and a
 // hydrostatic start: the telescopic bodies' tests run with both solvers (issue 13).
