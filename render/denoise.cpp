@@ -36,35 +36,31 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
     throw std::invalid_argument("denoise: iterations must be in [1, 10], the sigmas and the samples per pixel > 0");
   // The noise falls as 1/sqrt(samples): so does the colour difference that marks an edge.
   const float colourSigma = s.colourSigma * float(std::sqrt(4.0 / samplesPerPixel));
-  std::vector<Vector3f> current(n), next(n);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      const size_t i = size_t(y) * size_t(w) + size_t(x);
-      current[i] = noisy.at(x, y).head<3>().cwiseQuotient(demodulator(f.albedo[i]));
-    }
   const float invNormal = 1.0f / (s.normalSigma * s.normalSigma);
   const float invAlbedo = 1.0f / (s.albedoSigma * s.albedoSigma);
   // Planes (one float per pixel each) so that a tap is applied to a run of pixels of a row at
-  // once, which the compiler vectorises: the colour and its mean channel (rewritten each pass),
-  // the normal and the albedo.
-  std::array<std::vector<float>, 10> planes;
+  // once, which the compiler vectorises: the colour (divided by the albedo; each pass writes the
+  // next three planes), its mean channel, the normal and the albedo.
+  std::array<std::vector<float>, 13> planes;
   for (auto& plane : planes) plane.resize(n);
   float *R = planes[0].data(), *G = planes[1].data(), *B = planes[2].data(), *M = planes[3].data();
   const float *NX = planes[4].data(), *NY = planes[5].data(), *NZ = planes[6].data();
   const float *AX = planes[7].data(), *AY = planes[8].data(), *AZ = planes[9].data();
-  for (size_t i = 0; i < n; ++i) {
-    for (int c = 0; c < 3; ++c) planes[size_t(4 + c)][i] = f.normal[i][c];
-    for (int c = 0; c < 3; ++c) planes[size_t(7 + c)][i] = f.albedo[i][c];
-  }
+  float *nextR = planes[10].data(), *nextG = planes[11].data(), *nextB = planes[12].data();
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * size_t(w) + size_t(x);
+      const Vector3f c = noisy.at(x, y).head<3>().cwiseQuotient(demodulator(f.albedo[i]));
+      R[i] = c.x(); G[i] = c.y(); B[i] = c.z();
+      for (int k = 0; k < 3; ++k) planes[size_t(4 + k)][i] = f.normal[i][k];
+      for (int k = 0; k < 3; ++k) planes[size_t(7 + k)][i] = f.albedo[i][k];
+    }
   for (int pass = 0; pass < s.iterations; ++pass) {
     const int step = 1 << pass;
     const float sigma = colourSigma * std::pow(0.7071f, float(pass));  // narrower as the noise goes
     const float invColour = 1.0f / (sigma * sigma);
-    tbb::parallel_for(size_t(0), n, [&](size_t i) {
-      R[i] = current[i].x(); G[i] = current[i].y(); B[i] = current[i].z();
-      M[i] = current[i].sum() / 3.0f;  // for the relative colour distance
-    });
-    // Rows in parallel: each pass reads the planes and writes its own rows of `next`, so the
+    tbb::parallel_for(size_t(0), n, [&](size_t i) { M[i] = (R[i] + G[i] + B[i]) / 3.0f; });  // for the relative colour distance
+    // Rows in parallel: each pass reads the planes and writes its own rows of the next ones, so the
     // result does not depend on the thread count. Each pixel sums its taps in the order (dy, dx),
     // taps outside the image left out.
     tbb::parallel_for(tbb::blocked_range<int>(0, h, 8), [&](const tbb::blocked_range<int>& rows) {
@@ -107,17 +103,20 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
         }
         for (int x = 0; x < w; ++x) {
           const size_t p = row + size_t(x);
-          next[p] = sw[x] > 0.0f ? Vector3f(sr[x] / sw[x], sg[x] / sw[x], sb[x] / sw[x]) : current[p];
+          const bool any = sw[x] > 0.0f;
+          nextR[p] = any ? sr[x] / sw[x] : R[p];
+          nextG[p] = any ? sg[x] / sw[x] : G[p];
+          nextB[p] = any ? sb[x] / sw[x] : B[p];
         }
       }
     });
-    current.swap(next);
+    std::swap(R, nextR); std::swap(G, nextG); std::swap(B, nextB);
   }
   Image out = noisy;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
-      out.at(x, y).head<3>() = current[i].cwiseProduct(demodulator(f.albedo[i]));
+      out.at(x, y).head<3>() = Vector3f(R[i], G[i], B[i]).cwiseProduct(demodulator(f.albedo[i]));
     }
   return out;
 }

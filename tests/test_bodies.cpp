@@ -49,6 +49,16 @@ BodyParams boxBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max) {
   return b;
 }
 
+// scenes/box.json's body (k = 10000 N/m, d = 15000, connection radius 2.4 m) over the given box.
+BodyParams boxSceneBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max, float specificGravity) {
+  BodyParams b = boxBody(min, max);
+  b.specificGravity = specificGravity;
+  b.stiffness = 10000.0f;
+  b.damping = 15000.0f;
+  b.connectionRadius = 2.4f;
+  return b;
+}
+
 struct Extent {
   Eigen::Vector3f min = Eigen::Vector3f::Constant(1e9f), max = Eigen::Vector3f::Constant(-1e9f);
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
@@ -647,12 +657,7 @@ TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
   }
   p.container.max = Eigen::Vector3f(14, 14, 12);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(14, 14, 6)});
-  BodyParams box = boxBody({5.5f, 5.5f, 6.5f}, {8.5f, 8.5f, 9.5f});  // dropped from just above the water
-  box.specificGravity = gravity;
-  box.stiffness = 10000.0f;
-  box.damping = 15000.0f;
-  box.connectionRadius = 2.4f;
-  p.bodies.push_back(box);
+  p.bodies.push_back(boxSceneBody({5.5f, 5.5f, 6.5f}, {8.5f, 8.5f, 9.5f}, gravity));  // dropped from just above the water
   Simulation sim(p);
   double sum = 0.0;
   int samples = 0;
@@ -698,12 +703,7 @@ TEST(WettedWalls, DfsphBuoyantBoxLeavesTheFloor) {
   p.container.wallDensity = WallDensity::BoundaryParticles;
   p.container.max = Eigen::Vector3f(12, 12, 10);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(12, 12, 6)});
-  BodyParams box = boxBody({4.5f, 4.5f, 0.0f}, {7.5f, 7.5f, 3.0f});
-  box.specificGravity = 0.7f;
-  box.stiffness = 10000.0f;
-  box.damping = 15000.0f;
-  box.connectionRadius = 2.4f;
-  p.bodies.push_back(box);
+  p.bodies.push_back(boxSceneBody({4.5f, 4.5f, 0.0f}, {7.5f, 7.5f, 3.0f}, 0.7f));
   Simulation sim(p);
   const float start = bodyExtent(sim.particles(), 1).centre.z();
   sim.advanceTo(3.0);
