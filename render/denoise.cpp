@@ -29,7 +29,8 @@ Vector3f demodulator(const Vector3f& albedo) {
 Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings& s, double samplesPerPixel) {
   const int w = noisy.width(), h = noisy.height();
   const size_t n = size_t(w) * size_t(h);
-  if (f.width != w || f.height != h || f.albedo.size() != n || f.normal.size() != n)
+  if (f.width != w || f.height != h || f.albedo.size() != n || f.normal.size() != n ||
+      !(f.sun.empty() || f.sun.size() == n))
     throw std::invalid_argument("denoise: the feature buffers do not match the image");
   if (s.iterations < 1 || s.iterations > 10 || !(s.colourSigma > 0.0f) || !(s.normalSigma > 0.0f) ||
       !(s.albedoSigma > 0.0f) || !(samplesPerPixel > 0.0))
@@ -50,7 +51,8 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
-      const Vector3f c = noisy.at(x, y).head<3>().cwiseQuotient(demodulator(f.albedo[i]));
+      const Vector3f unfiltered = f.sun.empty() ? Vector3f::Zero() : f.sun[i];
+      const Vector3f c = (noisy.at(x, y).head<3>() - unfiltered).cwiseQuotient(demodulator(f.albedo[i]));
       R[i] = c.x(); G[i] = c.y(); B[i] = c.z();
       for (int k = 0; k < 3; ++k) planes[size_t(4 + k)][i] = f.normal[i][k];
       for (int k = 0; k < 3; ++k) planes[size_t(7 + k)][i] = f.albedo[i][k];
@@ -117,6 +119,7 @@ Image denoise(const Image& noisy, const FeatureBuffers& f, const DenoiseSettings
     for (int x = 0; x < w; ++x) {
       const size_t i = size_t(y) * size_t(w) + size_t(x);
       out.at(x, y).head<3>() = Vector3f(R[i], G[i], B[i]).cwiseProduct(demodulator(f.albedo[i]));
+      if (!f.sun.empty()) out.at(x, y).head<3>() += f.sun[i];
     }
   return out;
 }

@@ -15,9 +15,18 @@
 // before it (so water and mirrors tint it), and that vertex's shading normal (0 where the path
 // escaped to the sky or ended on a light; the albedo there is the chain's throughput).
 //
+// The sun's direct light at that vertex (times the same throughput) is part of the colour but
+// nearly free of noise (one shadow ray towards a disk of half a degree: only anti-aliasing and
+// penumbrae vary between samples), and it carries the sharpest lighting edges of a frame, the
+// hard shadows. It is subtracted before filtering and added back after, so only the noisy rest
+// (sky, area lights, bounces) is smoothed and shadow edges stay as sharp as the samples make them
+// (the split of direct and indirect light of production denoisers, reduced to the one light
+// that needs it). On the dam break at 960 x 540 and 16 spp it took the RMSE against a converged
+// frame from 0.0163 to 0.0125 (docs/RENDERING.md).
+//
 // Limits: a heuristic, biased filter: it blurs lighting detail finer than the noise (small
-// caustics, soft shadow edges) and keeps fireflies it cannot tell from edges. Allocates one
-// scratch image; call once per frame.
+// caustics, the sky's and area lights' soft shadow edges) and keeps fireflies it cannot tell
+// from edges. Allocates one scratch image; call once per frame.
 #pragma once
 
 #include "render/image.h"
@@ -46,6 +55,9 @@ struct FeatureBuffers {
   int width = 0, height = 0;
   std::vector<Eigen::Vector3f> albedo;  // row-major, row 0 on top, as Image
   std::vector<Eigen::Vector3f> normal;
+  // The sun's direct light at the first non-specular vertex, part of the colour: left out of the
+  // filter and added back after it (empty: the whole colour is filtered).
+  std::vector<Eigen::Vector3f> sun;
 };
 
 // The filtered image (alpha kept). The colour width is `colourSigma` at 4 samples per pixel and

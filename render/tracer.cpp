@@ -503,8 +503,9 @@ bool groundBlocks(const Frame& f, const Vector3f& origin, const Vector3f& direct
 
 // Direct light from the sun and the area lights at a non-specular vertex (one sample each), and
 // from the environment when it is sampled (one direction, MIS-weighted against BSDF sampling).
+// `sunPart`, when given, receives the sun's share of the sum.
 Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSampler& rng,
-                     RTCIntersectContext& context, Counters& counters) {
+                     RTCIntersectContext& context, Counters& counters, Vector3f* sunPart = nullptr) {
   static const Material kGroundMaterial{};
   const Material& material = hit.material ? *hit.material : kGroundMaterial;
   Vector3f sum = Vector3f::Zero();
@@ -520,6 +521,7 @@ Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSa
       sum += fcos.cwiseProduct(f.input->sun.irradiance)
                  .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters));
   }
+  if (sunPart) *sunPart = sum;
   // Area lights: a uniform point on each; pdf 1 / area converted to solid angle.
   for (const RectLight& l : f.input->rectLights) {
     const float s = rng.next(), r = rng.next();
@@ -560,10 +562,12 @@ Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSa
 }
 
 // The denoiser's features of one camera path (denoise.h): albedo and normal at its first
-// non-specular vertex, the albedo times the specular chain's throughput before it.
+// non-specular vertex, the albedo times the specular chain's throughput before it, and the sun's
+// direct light there times that throughput (its share of the path's radiance).
 struct PathFeatures {
   Vector3f albedo = Vector3f::Zero();
   Vector3f normal = Vector3f::Zero();
+  Vector3f sun = Vector3f::Zero();
 };
 
 // Radiance along one camera ray; `hitSomething` tells whether the camera ray met geometry.
@@ -625,9 +629,12 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
       features->albedo = throughput.cwiseProduct(hit.albedo);
       features->normal = wo.dot(hit.ng) >= 0.0f ? hit.ns : Vector3f(-hit.ns);
     }
-    if (hasDiffuseLobe(material.type))
-      radiance += throughput.cwiseProduct(directLight(f, hit, wo, rng, context, counters));
-    else
+    if (hasDiffuseLobe(material.type)) {
+      const bool first = features && cameraChain;
+      Vector3f sun = Vector3f::Zero();
+      radiance += throughput.cwiseProduct(directLight(f, hit, wo, rng, context, counters, first ? &sun : nullptr));
+      if (first) features->sun = throughput.cwiseProduct(sun);
+    } else
       rng.next(), rng.next();  // keep the dimension count independent of the material
     for (size_t i = 0; i < f.input->rectLights.size() && !hasDiffuseLobe(material.type); ++i) rng.next(), rng.next();
     if (sampledSky && !hasDiffuseLobe(material.type)) rng.next(), rng.next();
@@ -947,6 +954,7 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
     features.height = settings.height;
     features.albedo.assign(size_t(settings.width) * size_t(settings.height), Vector3f::Zero());
     features.normal = features.albedo;
+    features.sun = features.albedo;
   }
   tbb::parallel_for(tbb::blocked_range<int>(0, tilesX * tilesY), [&](const tbb::blocked_range<int>& tiles) {
     RTCIntersectContext context;
@@ -957,7 +965,8 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
       for (int y = y0; y < std::min(y0 + kTileSize, settings.height); ++y)
         for (int x = x0; x < std::min(x0 + kTileSize, settings.width); ++x) {
           const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(settings.width) + static_cast<uint32_t>(x);
-          Vector3f sum = Vector3f::Zero(), albedoSum = Vector3f::Zero(), normalSum = Vector3f::Zero();
+          Vector3f sum = Vector3f::Zero(), albedoSum = Vector3f::Zero(), normalSum = Vector3f::Zero(),
+                   sunSum = Vector3f::Zero();
           int covered = 0;
           int n = nFixed;
           // One path through sub-pixel `offset`: added to the pixel's sums; returns its radiance.
@@ -975,6 +984,7 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
             sum += value;
             albedoSum += pf.albedo;
             normalSum += pf.normal;
+            sunSum += pf.sun;
             covered += hitSomething ? 1 : 0;
             return value;
           };
@@ -1017,6 +1027,9 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
           if (denoising) {
             features.albedo[pixel] = albedoSum / float(n);
             features.normal[pixel] = normalSum / float(n);
+            // normalised as the pixel's colour is, of which it is a part
+            const int parts = settings.transparentBackground ? covered : n;
+            features.sun[pixel] = parts > 0 ? Vector3f(sunSum / float(parts)) : Vector3f::Zero();
           }
           counters.samples += uint64_t(n);
           Eigen::Vector4f pixelValue(0, 0, 0, 1);
