@@ -6,7 +6,8 @@
 // excluded), then times `--steps` adaptive steps and reports the mean neighbour count, ms per
 // step by stage and particle-steps per second. `--solver dfsph` (or `all`) adds rows for DFSPH
 // at the scene default tolerance (0.1 % mean density error) with boundary-particle walls, h = 2 l
-// only (its cubic spline kernel needs the larger support), with its mean iterations per step; every row
+// only (its cubic spline kernel needs the larger support), with its mean iterations per step;
+// `dfsph-cg` (in `all` too) the same with the divergence solve by conjugate gradients. Every row
 // also reports simulated seconds per wall second and the measured mean compression.
 #include "pipeline/cli.h"
 #include "sim/simulation.h"
@@ -33,7 +34,8 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   p.container.min = Eigen::Vector3f(0, 0, 0);
   p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
-  p.fluid.solver = solver;
+  p.fluid.solver = solver == "dfsph-cg" ? "dfsph" : solver;
+  if (solver == "dfsph-cg") p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
   if (solver != "wcsph") {
     p.container.wallDensity = sim::WallDensity::BoundaryParticles;
     p.fluid.pressureForce = sim::PressureForce::Monaghan1992;
@@ -98,11 +100,12 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
 int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
-                "                        [--solver wcsph|dfsph|all] [--json]\n\n"
+                "                        [--solver wcsph|dfsph|dfsph-cg|all] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
                 "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
-                "0.1 %% mean density error): iterations per step and simulated seconds per wall second.\n");
+                "0.1 %% mean density error): iterations per step and simulated seconds per wall second;\n"
+                "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients).\n");
     return 0;
   }
   const bool json = args.flag({"--json"});
@@ -114,15 +117,15 @@ int benchSim(ArgParser& args) {
   if (auto t = args.intOption({"--threads"}, 1, 1024)) threadCounts = {*t};
   const std::string solverChoice = args.option({"--solver"}).value_or("all");
   std::vector<std::string> solvers;
-  if (solverChoice == "all") solvers = {"wcsph", "dfsph"};
-  else if (solverChoice == "wcsph" || solverChoice == "dfsph") solvers = {solverChoice};
-  else args.fail("--solver must be wcsph, dfsph or all");
+  if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
+  else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg") solvers = {solverChoice};
+  else args.fail("--solver must be wcsph, dfsph, dfsph-cg or all");
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
                         {"warmup_steps", warmup}, {"timed_steps", steps}, {"runs", nlohmann::json::array()}};
   if (!json)
-    std::printf("%6s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",
+    std::printf("%8s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",
                 "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "div", "sim s/s",
                 "density%");
   for (const std::string& solver : solvers)
@@ -142,7 +145,7 @@ int benchSim(ArgParser& args) {
                                {"particle_steps_per_s", r.particleStepsPerSecond},
                                {"bytes_per_particle", r.bytesPerParticle}});
         if (!json) {
-          std::printf("%6s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %5.2f %8.3f %9.3f\n",
+          std::printf("%8s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %5.2f %8.3f %9.3f\n",
                       r.solver.c_str(), r.particles, r.hOverSpacing, r.threads, r.meanNeighbours, r.msPerStep,
                       r.stageMs[size_t(sim::Stage::Sort)], r.stageMs[size_t(sim::Stage::Density)],
                       r.stageMs[size_t(sim::Stage::Forces)], r.particleStepsPerSecond / 1e6, r.bytesPerParticle,

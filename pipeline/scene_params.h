@@ -20,6 +20,8 @@ inline const EnumTable<sim::DensitySum> kDensitySum{{"mass", sim::DensitySum::Ma
 inline const EnumTable<sim::WallDensity> kWallDensity{{"none", sim::WallDensity::None},
                                                       {"wall_weight", sim::WallDensity::WallWeight},
                                                       {"boundary_particles", sim::WallDensity::BoundaryParticles}};
+inline const EnumTable<sim::DivergenceSolve> kDivergenceSolve{{"jacobi", sim::DivergenceSolve::Jacobi},
+                                                              {"cg", sim::DivergenceSolve::ConjugateGradient}};
 inline const EnumTable<sim::InitialState> kInitialState{{"lattice", sim::InitialState::Lattice},
                                                         {"hydrostatic", sim::InitialState::Hydrostatic}};
 // The pressure solvers' names come from their registry (sim/solvers/registry.cpp).
@@ -74,6 +76,10 @@ void describe(V& v, sim::FluidParams& p) {
                "run.json and warned about)", atLeast(1)});
   v.value("max_divergence_iterations", p.maxDivergenceIterations,
           {"", "dfsph: iteration cap of the divergence solve", atLeast(1)});
+  v.enumeration("divergence_solve", p.divergenceSolve, kDivergenceSolve,
+                {"", "dfsph: how the divergence solve iterates: 'jacobi' (relaxed Jacobi, as Bender & Koschier) or "
+                     "'cg' (preconditioned conjugate gradients on the same equations: about half the iterations "
+                     "for the same tolerance; docs/PHYSICS.md says what else changes)"});
   v.enumeration("initial_state", p.initialState, kInitialState,
                 {"", "'lattice': fluid blocks start on the rest lattice without pressure, so a column falls until "
                      "its pressure holds it; 'hydrostatic': they start at rest in hydrostatic equilibrium "

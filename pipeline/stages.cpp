@@ -463,7 +463,8 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
                                {"mean_final_error", ss.sumDensityError / solverSteps},
                                {"max_final_error", ss.maxDensityError},
                                {"tolerance", 0.01 * scene.sim.fluid.maxDensityError}};
-    solver["divergence_solve"] = {{"mean_iterations", double(ss.divergenceIterations) / solverSteps},
+    solver["divergence_solve"] = {{"method", scene.sim.fluid.divergenceSolve == sim::DivergenceSolve::Jacobi ? "jacobi" : "cg"},
+                                  {"mean_iterations", double(ss.divergenceIterations) / solverSteps},
                                   {"max_iterations", ss.maxDivergenceIterations},
                                   {"cap", scene.sim.fluid.maxDivergenceIterations},
                                   {"cap_hits", ss.divergenceCapHits},

@@ -50,6 +50,12 @@ enum class InitialState {
                 // state needs for that pressure)
 };
 
+// How DFSPH's divergence solve iterates (sim/solvers/dfsph.h).
+enum class DivergenceSolve {
+  Jacobi,             // relaxed Jacobi, as Bender & Koschier 2017 (the default)
+  ConjugateGradient,  // preconditioned conjugate gradients on the same equations (ours)
+};
+
 enum class DensitySum {
   Mass,    // (3) as in the paper: rho_i = sum_j m_j W_ij
   Volume,  // rho_i = rho0_i sum_j (m_j / rho0_j) W_ij: each neighbour counts by its rest volume, so a
@@ -81,6 +87,7 @@ struct FluidParams {
   float maxDivergenceError = 0.1f;
   int maxIterations = 100;
   int maxDivergenceIterations = 100;
+  DivergenceSolve divergenceSolve = DivergenceSolve::Jacobi;
   InitialState initialState = InitialState::Lattice;
 
   float supportRadiusMetres() const { return supportRadius * spacing; }

@@ -44,6 +44,8 @@ const BadScene kBadScenes[] = {
      "fluid.max_divergence_error", "must be > 0, got -1"},
     {"ZeroIterationCap", [](json& s) { s["fluid"]["max_iterations"] = 0; }, "fluid.max_iterations",
      "must be >= 1, got 0"},
+    {"UnknownDivergenceSolve", [](json& s) { s["fluid"]["divergence_solve"] = "gmres"; }, "fluid.divergence_solve",
+     "must be one of \"jacobi\", \"cg\", got \"gmres\""},
     {"BoundaryParticlesThinContainer", [](json& s) {
        s["container"]["wall_density"] = "boundary_particles";
        s["container"]["max"] = {16, 1.2, 10};

@@ -18,7 +18,8 @@ constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergenc
 DfsphSolver::DfsphSolver(const FluidParams& fluid)
     : kernel_(fluid.supportRadiusMetres()), form_(fluid.densitySum),
       maxDensityError_(0.01f * fluid.maxDensityError), maxDivergenceError_(0.01f * fluid.maxDivergenceError),
-      maxIterations_(fluid.maxIterations), maxDivergenceIterations_(fluid.maxDivergenceIterations) {
+      maxIterations_(fluid.maxIterations), maxDivergenceIterations_(fluid.maxDivergenceIterations),
+      divergenceSolve_(fluid.divergenceSolve) {
   // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l).
   const int reach = int(std::ceil(fluid.supportRadius));
   for (int a = -reach; a <= reach; ++a)
@@ -124,9 +125,10 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     qSum_[i] = active_[i] && p.kind[i] == 0 && id < qById_.size() ? kDivergenceWarmStart * qById_[id] * unit(p, i) : 0.0f;
     warm = warm || qSum_[i] != 0.0f;
   }
-  if (warm) applyPressure(c, qSum_.data(), 1.0f);
-  for (;;) {
-    densityRate(c);
+  if (warm) applyPressure(c, qSum_.data(), 1.0f, velocity_.data());
+  if (divergenceSolve_ == DivergenceSolve::ConjugateGradient) iterations = divergenceCg(c, error);
+  else for (;;) {
+    densityRate(c, velocity_.data());
     const double sum = orderedSum(n, [&](size_t i) {
       // Inside the liquid (rho_i >= 0.9 rho0_i) the velocity field is made divergence-free both
       // ways: a region that separates is drawn together as one that converges is pushed apart
@@ -141,7 +143,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     error = sum / double(n) * c.lastStep;
     if (error <= maxDivergenceError_) break;
     if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
-    applyPressure(c, change_.data(), 1.0f);  // q = dt pi^v: the step cancels (2017, eq. 16)
+    applyPressure(c, change_.data(), 1.0f, velocity_.data());  // q = dt pi^v: the step cancels (2017, eq. 16)
     for (size_t i = 0; i < n; ++i) qSum_[i] += change_[i];
     ++iterations;
   }
@@ -151,6 +153,56 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   stats_.divergenceIterations += uint64_t(iterations);
   stats_.maxDivergenceIterations = std::max(stats_.maxDivergenceIterations, iterations);
   stats_.lastDivergenceError = error;
+}
+
+int DfsphSolver::divergenceCg(const SolverContext& c, double& error) {
+  ParticleSet& p = c.particles;
+  const size_t n = p.size();
+  residual_.resize(n);
+  direction_.resize(n);
+  weight_.resize(n);
+  scratch_.resize(n);
+  densityRate(c, velocity_.data());
+  tbb::parallel_for(size_t(0), n, [&](size_t i) {
+    // The unknowns of particles inside the liquid; a body particle only where it compresses.
+    const bool in = active_[i] && (p.kind[i] == 0 || rate_[i] > 0.0f);
+    residual_[i] = in ? rate_[i] : 0.0f;
+    // <a, b> = sum_i c_i a_i b_i, in which the operator is self-adjoint (header)
+    weight_[i] = in ? (form_ == DensitySum::Mass ? p.mass[i] : position_[i][3] / p.restDensity[i]) : 0.0f;
+    change_[i] = residual_[i] * invFactor_[i];  // z = M^-1 r
+    direction_[i] = change_[i];
+  });
+  const auto measure = [&] {
+    return orderedSum(n, [&](size_t i) { return double(std::fabs(residual_[i])) / p.restDensity[i]; }) / double(n) *
+           c.lastStep;
+  };
+  error = measure();
+  double rz = orderedSum(n, [&](size_t i) { return double(weight_[i]) * residual_[i] * change_[i]; });
+  int iterations = 0;
+  while (error > maxDivergenceError_) {
+    if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
+    // A d: the density rate of the velocities -P d (scratch_), negated, on the unknowns' set.
+    tbb::parallel_for(size_t(0), n, [&](size_t i) { scratch_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f}; });
+    applyPressure(c, direction_.data(), 1.0f, scratch_.data());
+    densityRate(c, scratch_.data());
+    const double dAd = orderedSum(n, [&](size_t i) { return -double(weight_[i]) * direction_[i] * rate_[i]; });
+    if (!(dAd > 0.0) || !(rz > 0.0)) break;
+    const float alpha = float(rz / dAd);
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      velocity_[i] += alpha * scratch_[i];
+      qSum_[i] += alpha * direction_[i];
+      if (weight_[i] != 0.0f) residual_[i] += alpha * rate_[i];  // r - alpha A d
+    });
+    ++iterations;
+    error = measure();
+    if (error <= maxDivergenceError_) break;
+    tbb::parallel_for(size_t(0), n, [&](size_t i) { change_[i] = residual_[i] * invFactor_[i]; });
+    const double rzNext = orderedSum(n, [&](size_t i) { return double(weight_[i]) * residual_[i] * change_[i]; });
+    const float beta = float(rzNext / rz);
+    rz = rzNext;
+    tbb::parallel_for(size_t(0), n, [&](size_t i) { direction_[i] = change_[i] + beta * direction_[i]; });
+  }
+  return iterations;
 }
 
 void DfsphSolver::storeById(const ParticleSet& p, const std::vector<float>& values, std::vector<float>& byId) {
@@ -170,11 +222,10 @@ void DfsphSolver::storeVelocities(ParticleSet& p) const {
   });
 }
 
-void DfsphSolver::densityRate(const SolverContext& c) {
+void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
   const ParticleSet& p = c.particles;
   const size_t n = p.size();
   const Float4* x = position_.data();
-  const Float4* v = velocity_.data();
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     const float* s0 = slopes_[ch].data();
@@ -199,11 +250,10 @@ void DfsphSolver::densityRate(const SolverContext& c) {
   });
 }
 
-void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float scale) {
+void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float scale, Float4* v) {
   ParticleSet& p = c.particles;
   const size_t n = p.size();
   const Float4* x = position_.data();
-  Float4* v = velocity_.data();
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     const float* s0 = slopes_[ch].data();
@@ -240,7 +290,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     warm = warm || pi_[i] != 0.0f;
   }
   loadVelocities(p);  // v*
-  if (warm) applyPressure(c, pi_.data(), dt);
+  if (warm) applyPressure(c, pi_.data(), dt, velocity_.data());
   if (c.boundaryLift)
     for (size_t i = 0; i < n; ++i) {
       // The walls' hydrostatic part of their pressure, p_b - p_i = rho0_i g . (x_b - x_i) (Adami
@@ -253,7 +303,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
   int iterations = 0;
   double error = 0.0;
   for (;;) {
-    densityRate(c);
+    densityRate(c, velocity_.data());
     const double sum = orderedSum(n, [&](size_t i) {
       const float e = p.density[i] + dt * rate_[i] - p.restDensity[i];  // rho*_i - rho0_i
       const float next = std::max(0.0f, pi_[i] + relax_[i] * e * invDt2 * invFactor_[i]);
@@ -263,7 +313,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     error = sum / double(n);
     if (iterations >= kMinDensityIterations && error <= maxDensityError_) break;
     if (iterations >= maxIterations_) { ++stats_.densityCapHits; break; }
-    applyPressure(c, change_.data(), dt);
+    applyPressure(c, change_.data(), dt, velocity_.data());
     for (size_t i = 0; i < n; ++i) pi_[i] += change_[i];
     ++iterations;
   }
@@ -321,8 +371,9 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 }
 
 size_t DfsphSolver::memoryBytes() const {
-  size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity()) *
+  size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity();
+  b += scratch_.capacity() * sizeof(Float4);
   for (const auto& g : slopes_) b += g.capacity() * sizeof(float);
   return b;
 }
