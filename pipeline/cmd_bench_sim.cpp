@@ -22,14 +22,15 @@ namespace kurage::pipeline {
 
 namespace {
 
-sim::SimParams damBreak(int particles, float supportRadius, const std::string& solver) {
+sim::SimParams damBreak(int particles, float supportRadius, const std::string& solver, float soundScale) {
   // Column nx x ny x nz with nz = 1.6 nx, ny = nx.
   const int nx = std::max(2, int(std::round(std::cbrt(particles / 1.6))));
   const int nz = std::max(2, int(std::round(particles / double(nx * nx))));
   sim::SimParams p;
   p.fluid.supportRadius = supportRadius;
-  // A liquid, not the paper's gas-like fluid: c = 10 sqrt(2 g H) (docs/PHYSICS.md).
-  const float c = 10.0f * std::sqrt(2.0f * 6.0f * nz);
+  // A liquid, not the paper's gas-like fluid: c = 10 sqrt(2 g H) (docs/PHYSICS.md), times
+  // --sound-speed-scale.
+  const float c = soundScale * 10.0f * std::sqrt(2.0f * 6.0f * nz);
   p.fluid.pressureStiffness = c * c;
   p.container.min = Eigen::Vector3f(0, 0, 0);
   p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
@@ -59,9 +60,10 @@ struct BenchRun {
   std::array<double, size_t(sim::Stage::Count)> stageMs{};
 };
 
-BenchRun measure(int particles, float h, int threads, int warmup, int steps, const std::string& solver) {
+BenchRun measure(int particles, float h, int threads, int warmup, int steps, const std::string& solver,
+                 float soundScale) {
   ThreadLimit limit(threads);
-  sim::Simulation simulation(damBreak(particles, h, solver));
+  sim::Simulation simulation(damBreak(particles, h, solver, soundScale));
   for (int i = 0; i < warmup; ++i) simulation.step(simulation.nextStepLimit().step);
   const sim::SimStats before = simulation.stats();
   const sim::SolverStats solverBefore = simulation.solver().stats();
@@ -100,12 +102,14 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
 int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
-                "                        [--solver wcsph|dfsph|dfsph-cg|all] [--json]\n\n"
+                "                        [--solver wcsph|dfsph|dfsph-cg|all] [--sound-speed-scale F] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
                 "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
                 "0.1 %% mean density error): iterations per step and simulated seconds per wall second;\n"
-                "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients).\n");
+                "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients).\n"
+                "--sound-speed-scale F: WCSPH's speed of sound F times the default 10 sqrt(2 g H) (its\n"
+                "compression falls as 1/F^2, its step as 1/F; with --warmup 600 the density%% column shows it).\n");
     return 0;
   }
   const bool json = args.flag({"--json"});
@@ -116,6 +120,8 @@ int benchSim(ArgParser& args) {
   std::vector<int> threadCounts{1, 2};
   if (auto t = args.intOption({"--threads"}, 1, 1024)) threadCounts = {*t};
   const std::string solverChoice = args.option({"--solver"}).value_or("all");
+  const double soundScale = args.doubleOption({"--sound-speed-scale"}).value_or(1.0);
+  if (!(soundScale >= 0.1 && soundScale <= 100.0)) args.fail("--sound-speed-scale must be in [0.1, 100]");
   std::vector<std::string> solvers;
   if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
   else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg") solvers = {solverChoice};
@@ -133,7 +139,7 @@ int benchSim(ArgParser& args) {
     for (float h : {1.5f, 2.0f})
       for (int threads : threadCounts) {
         if (solver != "wcsph" && h < 2.0f) continue;
-        const BenchRun r = measure(count, h, threads, warmup, steps, solver);
+        const BenchRun r = measure(count, h, threads, warmup, steps, solver, float(soundScale));
         nlohmann::json stages = nlohmann::json::object();
         for (size_t s = 0; s < r.stageMs.size(); ++s) stages[std::string(sim::stageName(sim::Stage(s)))] = r.stageMs[s];
         out["runs"].push_back({{"solver", r.solver}, {"iterations_per_step", r.iterations},
