@@ -129,7 +129,7 @@ int benchSim(ArgParser& args) {
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
-                        {"warmup_steps", warmup}, {"timed_steps", steps}, {"runs", nlohmann::json::array()}};
+                        {"warmup_steps", warmup}, {"timed_steps", steps}, {"sound_speed_scale", soundScale}, {"runs", nlohmann::json::array()}};
   if (!json)
     std::printf("%8s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",
                 "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "div", "sim s/s",

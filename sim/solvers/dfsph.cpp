@@ -196,8 +196,10 @@ int DfsphSolver::divergenceCg(const SolverContext& c, double& error) {
     ++iterations;
     error = measure();
     if (error <= maxDivergenceError_) break;
-    tbb::parallel_for(size_t(0), n, [&](size_t i) { change_[i] = residual_[i] * invFactor_[i]; });
-    const double rzNext = orderedSum(n, [&](size_t i) { return double(weight_[i]) * residual_[i] * change_[i]; });
+    const double rzNext = orderedSum(n, [&](size_t i) {
+      change_[i] = residual_[i] * invFactor_[i];  // z = M^-1 r
+      return double(weight_[i]) * residual_[i] * change_[i];
+    });
     const float beta = float(rzNext / rz);
     rz = rzNext;
     tbb::parallel_for(size_t(0), n, [&](size_t i) { direction_[i] = change_[i] + beta * direction_[i]; });
