@@ -280,6 +280,10 @@ void describe(V& v, sim::TimeStepParams& p) {
   v.value("spring_factor", p.springFactor,
           {"", "bodies: dt <= factor min_i min(sqrt(2 m_i / K_i), m_i / D_i), K_i and D_i the sums of k and d over "
                "particle i's springs", {0.0, 2.0, true, false}});
+  v.value("pressure_factor", p.pressureFactor,
+          {"", "incompressible solvers: dt <= factor l / sqrt(|g| H), H the fluid's depth: the explicit "
+               "oscillation of a particle among its neighbours under the hydrostatic pressure (docs/PHYSICS.md)",
+           {0.0, 2.0, true, false}});
   v.value("max_step", p.maxStep, {"s", "largest adaptive step", positive()});
   v.value("min_step", p.minStep, {"s", "floor of the adaptive step: a bound below it stops the run", positive()});
 }

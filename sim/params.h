@@ -134,6 +134,7 @@ struct TimeStepParams {
   float viscousFactor = 0.125f;  // dt <= factor * h^2 / nu
   float forceFactor = 0.25f;     // dt <= factor * sqrt(h / |a|max)
   float springFactor = 0.5f;  // dt <= factor * min_i min(sqrt(2 m_i / K_i), m_i / D_i) (bodies only)
+  float pressureFactor = 0.4f;  // dt <= factor * l / sqrt(|g| H) (incompressible solvers; time_step.h)
   float maxStep = 0.05f;    // s, upper limit of the adaptive step
   float minStep = 1e-5f;    // s, floor: a smaller bound stops the run with an error
 };

@@ -358,6 +358,31 @@ void setCflInputs(StepInputs& in, const SimParams& params, const PressureSolver&
   in.cflLength = solver.incompressible() ? params.fluid.spacing : 0.0f;
 }
 
+// l / sqrt(|g| H) for an incompressible solver (time_step.h), H the fluid's extent along gravity: the
+// hydrostatic pressure at its deepest point. (The largest particle pressure instead followed the
+// solver's transients: a divergence correction's impulse over one step read 60 MPa in the
+// jellyfish's bell and asked for a step below its floor.) 0 without gravity or fluid.
+float pressureStep(const SimParams& params, const ParticleSet& p, const PressureSolver& solver) {
+  const float g = params.gravity.norm();
+  if (!solver.incompressible() || !(g > 0.0f)) return 0.0f;
+  const Eigen::Vector3f down = params.gravity / g;
+  using Range = std::pair<float, float>;  // the fluid's lowest and highest height along -g
+  constexpr float inf = std::numeric_limits<float>::infinity();
+  const Range range = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, p.size(), 4096), Range{inf, -inf},
+      [&](const tbb::blocked_range<size_t>& r, Range m) {
+        for (size_t i = r.begin(); i != r.end(); ++i)
+          if (p.kind[i] == 0) {
+            const float up = -(down.x() * p.x[i] + down.y() * p.y[i] + down.z() * p.z[i]);
+            m = {std::min(m.first, up), std::max(m.second, up)};
+          }
+        return m;
+      },
+      [](Range a, Range b) { return Range{std::min(a.first, b.first), std::max(a.second, b.second)}; });
+  const float depth = range.second - range.first;
+  return std::isfinite(depth) && depth > 0.0f ? params.fluid.spacing / std::sqrt(g * depth) : 0.0f;
+}
+
 StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, const BodySystem* bodies,
                              const PressureSolver& solver) {
   StepInputs in;
@@ -370,6 +395,7 @@ StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, cons
     return p.ax[i] * p.ax[i] + p.ay[i] * p.ay[i] + p.az[i] * p.az[i];
   }));
   if (bodies) in.springStep = bodies->springStep();
+  in.pressureStep = pressureStep(params, p, solver);
   return in;
 }
 
@@ -380,6 +406,8 @@ StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, cons
 // for a 3-D body with an implicit damper); sqrt(h / |a|max). The viscous bound keeps its default
 // factor: 1.5 times 0.125 h^2 / nu already gains energy. Measured in docs/STABILITY.md.
 constexpr float kViscousLimitFactor = 0.125f;
+// The pressure bound's edge: omega dt = 2 with the measured C ~ 6 (time_step.h), 2 / sqrt(6).
+constexpr float kPressureLimitFactor = 0.8f;
 }  // namespace
 
 StepLimit Simulation::nextStepLimit() const {
@@ -394,6 +422,7 @@ StepLimit Simulation::stabilityLimit() const {
   in.kinematicViscosity = params_.fluid.kinematicViscosity;
   in.maxAcceleration = params_.gravity.norm();
   if (bodies_) in.springStep = bodies_->springStep();
+  in.pressureStep = pressureStep(params_, particles_, *solver_);
   return stabilityBound(params_.timeStep, in);
 }
 
@@ -431,6 +460,7 @@ void Simulation::advanceTo(double t) {
       const StepInputs in = currentStepInputs(params_, particles_, bodies_.get(), *solver_);
       TimeStepParams limits = params_.timeStep;
       limits.cflFactor = limits.forceFactor = limits.springFactor = 1.0f;
+      limits.pressureFactor = kPressureLimitFactor;
       limits.viscousFactor = kViscousLimitFactor;
       const StepLimit edge = stabilityBound(limits, in);
       if (params_.timeStep.fixedStep > edge.step) {

@@ -12,6 +12,7 @@ std::string_view stepBoundName(StepBound bound) {
     case StepBound::Viscous: return "viscous";
     case StepBound::Force: return "force";
     case StepBound::Spring: return "spring";
+    case StepBound::Pressure: return "pressure";
     case StepBound::Maximum: return "maximum";
     case StepBound::Count: break;
   }
@@ -30,6 +31,7 @@ StepLimit adaptiveStep(const TimeStepParams& params, const StepInputs& in) {
   if (in.maxAcceleration > 0.0f)
     consider(params.forceFactor * std::sqrt(in.supportRadius / in.maxAcceleration), StepBound::Force);
   if (in.springStep > 0.0f) consider(params.springFactor * in.springStep, StepBound::Spring);
+  if (in.pressureStep > 0.0f) consider(params.pressureFactor * in.pressureStep, StepBound::Pressure);
   return limit;
 }
 

@@ -112,13 +112,14 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     }
   });
   ++stats_.steps;
+  qSum_.assign(n, 0.0f);
+  qStep_ = c.lastStep;
   // Divergence solve on the current velocities (before the first step there is no step size for
   // the tolerance, and the fluid starts at rest).
   if (maxDivergenceIterations_ <= 0 || !(c.lastStep > 0.0f) || n == 0) return;
   int iterations = 0;
   double error = 0.0;
   // Warm start (header): half of each fluid particle's q of the previous step, by id.
-  qSum_.assign(n, 0.0f);
   bool warm = false;
   for (size_t i = 0; i < n; ++i) {
     const size_t id = size_t(p.id[i]);
@@ -310,7 +311,10 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
       const float e = p.density[i] + dt * rate_[i] - p.restDensity[i];  // rho*_i - rho0_i
       const float next = std::max(0.0f, pi_[i] + relax_[i] * e * invDt2 * invFactor_[i]);
       change_[i] = next - pi_[i];
-      return double(std::max(e, 0.0f)) / p.restDensity[i];
+      // The residual of the complementarity problem (pressure >= 0, rho* = rho0 where it is
+      // positive, rho* <= rho0 where it is 0): |e| where the particle keeps a pressure, the
+      // compression alone where it has none (header)
+      return double(next > 0.0f ? std::fabs(e) : std::max(e, 0.0f)) / p.restDensity[i];
     });
     error = sum / double(n);
     if (iterations >= kMinDensityIterations && error <= maxDensityError_) break;
@@ -320,9 +324,12 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     ++iterations;
   }
   storeVelocities(p);
+  const float invQStep = qStep_ > 0.0f ? 1.0f / qStep_ : 0.0f;
   for (size_t i = 0; i < n; ++i) {
     pi_[i] /= unit(p, i);
-    p.pressure[i] = pi_[i] * p.density[i] * p.density[i];
+    // The pressure both solves applied this step: pi dt from the density solve, q from the
+    // divergence one (header)
+    p.pressure[i] = (pi_[i] + (i < qSum_.size() ? qSum_[i] * invQStep : 0.0f)) * p.density[i] * p.density[i];
   }
   storeById(p, pi_, piById_);
   stats_.densityIterations += uint64_t(iterations);

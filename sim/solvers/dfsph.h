@@ -171,6 +171,7 @@ private:
   std::vector<float> piById_;                  // warm start, by particle id
   std::vector<float> qSum_;                    // divergence solve: this step's total q
   std::vector<float> qById_;                   // its warm start, by particle id
+  float qStep_ = 0.0f;                         // the step q was solved with
   std::vector<double> headSum_, headCount_;    // wetWalls: per body kind
   SolverStats stats_;
   std::vector<float> residual_, direction_, weight_;  // divergenceCg: r, d and c_i (0 off the unknowns)
