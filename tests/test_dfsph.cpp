@@ -283,3 +283,19 @@ TEST(Dfsph, ReachesItsToleranceAndCountsCapHits) {
     }
   }
 }
+
+// The pressure step bound (sim/time_step.h): in the jellyfish's tank at 0.5 m spacing, 20 m of
+// water, it is the active bound at rest, 0.4 l / sqrt(|g| H) with H the fluid's extent (the tank
+// blew up from its floor at the 0.05 s largest step without it; the settled-tank test above runs
+// that tank for 5 s). WCSPH's CFL already covers it (its speed of sound is far above sqrt(g H)).
+TEST(PressureStepBound, IsTheActiveBoundInADeepStillTank) {
+  Simulation sim(jellyfishTank("dfsph", 0.5f));
+  sim.advanceTo(0.2);
+  const auto& counts = sim.stats().boundCounts;
+  EXPECT_EQ(counts[size_t(StepBound::Pressure)], sim.stats().steps) << "every step";
+  const StepLimit rest = sim.stabilityLimit();
+  ASSERT_EQ(rest.bound, StepBound::Pressure);
+  EXPECT_NEAR(rest.step, 0.4 * 0.5 / std::sqrt(6.0 * 19.75), 0.002) << "fluid from z = 0.25 to 20 - 0.25 m";
+  Simulation wcsph(jellyfishTank("wcsph", 0.5f));
+  EXPECT_NE(wcsph.stabilityLimit().bound, StepBound::Pressure);
+}

@@ -10,32 +10,32 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-11.5907 0.000344301 "wcsph c20"
-20.8446 8.65284e-05 "wcsph c40"
-41.0229 2.07458e-05 "wcsph c80"
-81.3766 4.72218e-06 "wcsph c160"
+10.9286 0.000344301 "wcsph c20"
+20.7811 8.65284e-05 "wcsph c40"
+39.4441 2.07458e-05 "wcsph c80"
+71.5677 4.72218e-06 "wcsph c160"
 EOD
 $series1 << EOD
-25.5415 9.82773e-05 "wcsph c40 bp"
-45.9641 5.25438e-05 "wcsph c80 bp"
+24.4616 9.82773e-05 "wcsph c40 bp"
+42.4916 5.25438e-05 "wcsph c80 bp"
 EOD
 $series2 << EOD
-3.05206 0.000744387 "dfsph 1%"
-3.0369 0.000629016 "dfsph 0.3%"
-2.97501 0.000550611 "dfsph 0.1%"
-3.02956 0.000439412 "dfsph 0.03%"
+2.83789 0.000688618 "dfsph 1%"
+2.83264 0.000674264 "dfsph 0.3%"
+2.91366 0.000516611 "dfsph 0.1%"
+3.51233 0.000380714 "dfsph 0.03%"
 EOD
 $series3 << EOD
-2.78389 0.000689954 "1%"
-3.04801 0.000503569 "0.1%"
-3.50562 0.000403894 "0.03%"
+2.90572 0.000571295 "1%"
+3.1045 0.000482223 "0.1%"
+3.50416 0.000375419 "0.03%"
 EOD
 $series4 << EOD
-2.78389 0.001 ""
-81.3766 0.001 ""
+2.83264 0.001 ""
+71.5677 0.001 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "pressure_solvers.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "wcsph, wall weights" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "wcsph, boundary particles" noenhanced, \
@@ -46,9 +46,9 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "wc
      $series3 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series4 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.001" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "pressure_solvers.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "pressure_solvers.pdf"
+set output "study.pdf"
 replot
 unset output
