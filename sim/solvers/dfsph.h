@@ -77,12 +77,17 @@
 // relaxed, projected Jacobi step as in IISPH, Ihmsen et al. 2014: pressure never pulls, and a
 // particle whose predicted density is below rest loses pressure; unrelaxed (w = 1), the
 // iteration diverged within a few steps on a still tank, measured) and applies the change; it
-// stops when the mean of
-// max(rho*_i - rho0_i, 0) / rho0_i is below fluid.max_density_error (%), after at least two
-// iterations (Bender & Koschier 2017, Alg. 3), at most max_iterations. It is warm-started with
+// stops when the mean of the complementarity residual (ours: pressure >= 0, rho* = rho0 where it
+// is positive, rho* <= rho0 where it is 0), |rho*_i - rho0_i| / rho0_i where the iteration left
+// the particle a pressure and max(rho*_i - rho0_i, 0) / rho0_i where it left none, is below
+// fluid.max_density_error (%), after at least two iterations (Bender & Koschier 2017, Alg. 3), at
+// most max_iterations. (With the compression alone, as the paper counts it, an expanded column,
+// its interior below rest density but still under pressure, counted as converged.) It is warm-started with
 // each particle's pi = p / rho^2 of the previous step (kept by particle id, so sorting does not
 // lose it; k_i = pi_i, or P_i = pi_i rho0_i^2), or with the hydrostatic start's pressure. The
-// particles' `pressure` is p_i = pi_i rho_i^2.
+// particles' `pressure` is what both solves applied in the step, p_i = (pi_i + q_i / dt) rho_i^2
+// with q the divergence solve's total (its impulse over the step): in a still tank the
+// hydrostatic load moves from the density solve into the divergence solve's warm-started q.
 //
 // Kernel: the cubic spline for the density sum and every gradient (kernels.h). Each neighbour
 // pair's W'(r)/r is computed once per step and every iteration forms grad W_ij from it and the
