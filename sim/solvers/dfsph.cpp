@@ -1,6 +1,8 @@
 #include "sim/solvers/dfsph.h"
 
+#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cmath>
@@ -28,6 +30,16 @@ DfsphSolver::DfsphSolver(const FluidParams& fluid)
         if ((a || b || c) && float(a * a + b * b + c * c) < fluid.supportRadius * fluid.supportRadius)
           latticeNeighbours_ += 1.0f;
 }
+
+namespace {
+// f(i) for every particle, in parallel (each i independent).
+template <class F>
+void forEach(size_t count, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) f(i);
+  });
+}
+}  // namespace
 
 template <class F>
 double DfsphSolver::orderedSum(size_t count, F&& f) {
@@ -120,12 +132,11 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   int iterations = 0;
   double error = 0.0;
   // Warm start (header): half of each fluid particle's q of the previous step, by id.
-  bool warm = false;
-  for (size_t i = 0; i < n; ++i) {
+  const bool warm = orderedSum(n, [&](size_t i) {
     const size_t id = size_t(p.id[i]);
     qSum_[i] = active_[i] && p.kind[i] == 0 && id < qById_.size() ? kDivergenceWarmStart * qById_[id] * unit(p, i) : 0.0f;
-    warm = warm || qSum_[i] != 0.0f;
-  }
+    return qSum_[i] != 0.0f ? 1.0 : 0.0;
+  }) > 0.0;
   if (warm) applyPressure(c, qSum_.data(), 1.0f, velocity_.data());
   if (divergenceSolve_ == DivergenceSolve::ConjugateGradient) iterations = divergenceCg(c, error);
   else for (;;) {
@@ -145,11 +156,11 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     if (error <= maxDivergenceError_) break;
     if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
     applyPressure(c, change_.data(), 1.0f, velocity_.data());  // q = dt pi^v: the step cancels (2017, eq. 16)
-    for (size_t i = 0; i < n; ++i) qSum_[i] += change_[i];
+    forEach(n, [&](size_t i) { qSum_[i] += change_[i]; });
     ++iterations;
   }
   storeVelocities(p);
-  for (size_t i = 0; i < n; ++i) qSum_[i] /= unit(p, i);
+  forEach(n, [&](size_t i) { qSum_[i] /= unit(p, i); });
   storeById(p, qSum_, qById_);
   stats_.divergenceIterations += uint64_t(iterations);
   stats_.maxDivergenceIterations = std::max(stats_.maxDivergenceIterations, iterations);
@@ -209,10 +220,15 @@ int DfsphSolver::divergenceCg(const SolverContext& c, double& error) {
 }
 
 void DfsphSolver::storeById(const ParticleSet& p, const std::vector<float>& values, std::vector<float>& byId) {
-  int64_t maxId = -1;
-  for (size_t i = 0; i < p.size(); ++i) maxId = std::max(maxId, p.id[i]);
+  const int64_t maxId = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, p.size(), 4096), int64_t(-1),
+      [&](const tbb::blocked_range<size_t>& r, int64_t m) {
+        for (size_t i = r.begin(); i != r.end(); ++i) m = std::max(m, p.id[i]);
+        return m;
+      },
+      [](int64_t a, int64_t b) { return std::max(a, b); });
   byId.assign(size_t(maxId + 1), 0.0f);
-  for (size_t i = 0; i < p.size(); ++i) byId[size_t(p.id[i])] = values[i];
+  forEach(p.size(), [&](size_t i) { byId[size_t(p.id[i])] = values[i]; });  // ids are unique
 }
 
 void DfsphSolver::loadVelocities(const ParticleSet& p) {
@@ -286,21 +302,20 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
   ParticleSet& p = c.particles;
   const size_t n = p.size();
   if (n == 0) return;
-  bool warm = false;
-  for (size_t i = 0; i < n; ++i) {
+  const bool warm = orderedSum(n, [&](size_t i) {
     const size_t id = size_t(p.id[i]);
     pi_[i] = id < piById_.size() ? piById_[id] * unit(p, i) : 0.0f;
-    warm = warm || pi_[i] != 0.0f;
-  }
+    return pi_[i] != 0.0f ? 1.0 : 0.0;
+  }) > 0.0;
   loadVelocities(p);  // v*
   if (warm) applyPressure(c, pi_.data(), dt, velocity_.data());
   if (c.boundaryLift)
-    for (size_t i = 0; i < n; ++i) {
+    forEach(n, [&](size_t i) {
       // The walls' hydrostatic part of their pressure, p_b - p_i = rho0_i g . (x_b - x_i) (Adami
       // 2012): -dt sum_b psi_b (p_b - p_i) / rho0_i^2 grad W_ib, known before the solve.
       const float* lift = c.boundaryLift + 3 * i;
       velocity_[i] -= dt * Float4{lift[0], lift[1], lift[2], 0.0f};
-    }
+    });
   if (c.boundaryGradient) wetWalls(c, dt);
   const float invDt2 = 1.0f / (dt * dt);
   int iterations = 0;
@@ -320,17 +335,17 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     if (iterations >= kMinDensityIterations && error <= maxDensityError_) break;
     if (iterations >= maxIterations_) { ++stats_.densityCapHits; break; }
     applyPressure(c, change_.data(), dt, velocity_.data());
-    for (size_t i = 0; i < n; ++i) pi_[i] += change_[i];
+    forEach(n, [&](size_t i) { pi_[i] += change_[i]; });
     ++iterations;
   }
   storeVelocities(p);
   const float invQStep = qStep_ > 0.0f ? 1.0f / qStep_ : 0.0f;
-  for (size_t i = 0; i < n; ++i) {
+  forEach(n, [&](size_t i) {
     pi_[i] /= unit(p, i);
     // The pressure both solves applied this step: pi dt from the density solve, q from the
     // divergence one (header)
     p.pressure[i] = (pi_[i] + (i < qSum_.size() ? qSum_[i] * invQStep : 0.0f)) * p.density[i] * p.density[i];
-  }
+  });
   storeById(p, pi_, piById_);
   stats_.densityIterations += uint64_t(iterations);
   stats_.maxDensityIterations = std::max(stats_.maxDensityIterations, iterations);
