@@ -85,7 +85,16 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
         uint32_t* d2 = candidates > local.size() ? overflow.data() : local.data();
         for (int r = 0; r < n; ++r)
           found = sift(x, y, z, xi, yi, zi, h2, uint32_t(i), ranges[r][0], ranges[r][1], out, d2, found);
-        for (size_t k = 0; k < found; ++k) sum += weight(out[k]) * kernel.fromSquared(std::bit_cast<float>(d2[k]));
+        // Each neighbour's W'(r)/r is kept alongside its entry for DFSPH's gradients (the same
+        // floats its factor pass computed from the positions: the solves do not move them).
+        std::vector<float>& slopes = neighbors.slopes(c);
+        slopes.resize(begin + found);  // capacity is kept between steps
+        float* slope = slopes.data() + begin;
+        for (size_t k = 0; k < found; ++k) {
+          const float r = std::sqrt(std::bit_cast<float>(d2[k]));
+          sum += weight(out[k]) * kernel(r);
+          slope[k] = r > 1e-6f * kernel.h ? kernel.derivative(r) / r : 0.0f;
+        }
       }
       buffer.resize(begin + found);
       neighbors.setRange(i, uint32_t(begin), uint32_t(buffer.size()));

@@ -74,6 +74,7 @@ int NeighborGrid::candidateRanges(uint32_t cell, std::array<std::array<uint32_t,
 void NeighborLists::resize(size_t particles) {
   chunks_.resize((particles + kChunk - 1) / kChunk);
   scratch_.resize(chunks_.size());
+  slopes_.resize(chunks_.size());
   begin_.resize(particles);
   end_.resize(particles);
 }
@@ -88,6 +89,7 @@ size_t NeighborLists::memoryBytes() const {
   size_t bytes = (begin_.capacity() + end_.capacity()) * sizeof(uint32_t);
   for (const auto& c : chunks_) bytes += c.capacity() * sizeof(uint32_t);
   for (const auto& c : scratch_) bytes += c.capacity() * sizeof(uint32_t);
+  for (const auto& c : slopes_) bytes += c.capacity() * sizeof(float);
   return bytes;
 }
 

@@ -73,12 +73,17 @@ public:
   uint32_t offset(size_t i) const { return begin_[i]; }
   // Size of chunk c's buffer.
   size_t chunkSize(size_t c) const { return chunks_[c].size(); }
+  // Per neighbour entry, alongside chunk c's buffer: W'(r_ij) / r_ij of the cubic spline, filled
+  // by the cubic density pass (which has r_ij at hand) for DFSPH's gradients; empty otherwise.
+  std::vector<float>& slopes(size_t c) { return slopes_[c]; }
+  const std::vector<float>& slopes(size_t c) const { return slopes_[c]; }
   size_t totalCount() const;
   size_t memoryBytes() const;
 
 private:
   std::vector<std::vector<uint32_t>> chunks_;
   std::vector<std::vector<uint32_t>> scratch_;
+  std::vector<std::vector<float>> slopes_;
   std::vector<uint32_t> begin_, end_;
 };
 

@@ -5,6 +5,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 
 namespace kurage::sim {
@@ -80,7 +81,6 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   change_.resize(n);
   rate_.resize(n);
   const size_t chunks = c.neighbors.chunkCount();
-  slopes_.resize(chunks);
   const float dRef = 2.0f * kernel_.sigma * kernel_.invH;  // largest |dW/dr|, at r = h / 3
   position_.resize(n);
   velocity_.resize(n);
@@ -90,8 +90,8 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   });
   loadVelocities(p);
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
-    std::vector<float>& g = slopes_[ch];
-    g.resize(c.neighbors.chunkSize(ch));  // capacity kept between steps
+    const std::vector<float>& g = c.neighbors.slopes(ch);  // W'(r)/r, from the density pass
+    assert(g.size() == c.neighbors.chunkSize(ch));
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
       const float xi = p.x[i], yi = p.y[i], zi = p.z[i], rho0i = p.restDensity[i];
@@ -99,13 +99,11 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       if (c.boundaryGradient) gb = wallWeight(p, i) * Eigen::Vector3f(c.boundaryGradient + 3 * i);
       Eigen::Vector3f F = kMirror * gb;  // mirrored wall: see the header
       float S = 0.0f;
-      float* out = g.data() + c.neighbors.offset(i);
-      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++out) {
+      const float* slope = g.data() + c.neighbors.offset(i);
+      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
         const uint32_t j = *it;
         const float dx = xi - p.x[j], dy = yi - p.y[j], dz = zi - p.z[j];
-        const float r = std::sqrt(dx * dx + dy * dy + dz * dz);
-        const float s = r > 1e-6f * kernel_.h ? kernel_.derivative(r) / r : 0.0f;
-        *out = s;
+        const float s = *slope;
         const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
         const float w = position_[j][3];  // m_j, or V_j
         F += w * grad;
@@ -247,7 +245,7 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
   const Float4* x = position_.data();
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
-    const float* s0 = slopes_[ch].data();
+    const float* s0 = c.neighbors.slopes(ch).data();
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
       const Float4 xi = x[i], vi = v[i];
       const float* s = s0 + c.neighbors.offset(i);
@@ -275,7 +273,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
   const Float4* x = position_.data();
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
-    const float* s0 = slopes_[ch].data();
+    const float* s0 = c.neighbors.slopes(ch).data();
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
       const float ki = k[i];
       const Float4 xi = x[i];
@@ -398,7 +396,6 @@ size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity();
   b += scratch_.capacity() * sizeof(Float4);
-  for (const auto& g : slopes_) b += g.capacity() * sizeof(float);
   return b;
 }
 

@@ -90,7 +90,8 @@
 // hydrostatic load moves from the density solve into the divergence solve's warm-started q.
 //
 // Kernel: the cubic spline for the density sum and every gradient (kernels.h). Each neighbour
-// pair's W'(r)/r is computed once per step and every iteration forms grad W_ij from it and the
+// pair's W'(r)/r is computed once per step, by the density pass alongside the neighbour lists
+// (NeighborLists::slopes: it has r at hand), and every iteration forms grad W_ij from it and the
 // positions (which the solves do not move): one float a pair instead of a stored gradient's
 // three, and the same floats. Error sums
 // reduce per fixed chunk of particles, then over chunks in order: the result does not depend on
@@ -158,9 +159,6 @@ private:
   float maxDensityError_, maxDivergenceError_;  // fractions
   int maxIterations_, maxDivergenceIterations_;
   DivergenceSolve divergenceSolve_;
-  // Per neighbour chunk, one float per neighbour entry: W'(r_ij) / r_ij, so that
-  // grad W_ij = slopes_ (x_i - x_j) (positions do not move during the solves).
-  std::vector<std::vector<float>> slopes_;
   // During the solves (positions do not move, velocities are the unknowns' image): per particle
   // (x, y, z, w_j), w_j the density rate's weight (m_j, or m_j / rho0_j for density_sum
   // "volume"), and (vx, vy, vz, 0); written back to the particles after each solve.
