@@ -123,7 +123,6 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   });
   ++stats_.steps;
   qSum_.assign(n, 0.0f);
-  qStep_ = c.lastStep;
   // Divergence solve on the current velocities (before the first step there is no step size for
   // the tolerance, and the fluid starts at rest).
   if (maxDivergenceIterations_ <= 0 || !(c.lastStep > 0.0f) || n == 0) return;
@@ -337,12 +336,14 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     ++iterations;
   }
   storeVelocities(p);
-  const float invQStep = qStep_ > 0.0f ? 1.0f / qStep_ : 0.0f;
+  // q was solved at this step's start with the step before it (c.lastStep, still that until the
+  // positions move)
+  const float invQStep = c.lastStep > 0.0f ? 1.0f / c.lastStep : 0.0f;
   forEach(n, [&](size_t i) {
     pi_[i] /= unit(p, i);
     // The pressure both solves applied this step: pi dt from the density solve, q from the
     // divergence one (header)
-    p.pressure[i] = (pi_[i] + (i < qSum_.size() ? qSum_[i] * invQStep : 0.0f)) * p.density[i] * p.density[i];
+    p.pressure[i] = (pi_[i] + qSum_[i] * invQStep) * p.density[i] * p.density[i];
   });
   storeById(p, pi_, piById_);
   stats_.densityIterations += uint64_t(iterations);

@@ -60,10 +60,11 @@
 // the body particles that compress at the start of the solve (Jacobi's one-sided bodies, frozen
 // for the step); the preconditioner is 1 / D_i (Jacobi's own factor); the same stopping rule and
 // cap. One iteration costs what a Jacobi one does (a push and a density-rate sweep) plus two
-// ordered dot products. Measured on bench sim's dam break: 4.9 -> 2.3 divergence iterations a
-// step at the same tolerance, about 15 % of a step. Not the default: converged more tightly, the divergence field lets
-// the unpulsed jellyfish bell (1.17 times as dense as water) hover instead of sinking
-// (docs/PHYSICS.md), as the Jacobi solve does at a tolerance of 0.03 % too.
+// ordered dot products. Measured on bench sim's dam break when it came in: 4.9 -> 2.3 divergence
+// iterations a step at the same tolerance, about 15 % of a step (since the density solve's
+// complementarity stop and the pressure step bound, Jacobi needs 1.6 and the two cost the same).
+// Not the default: with it the jellyfish's arms come within 0.07 m of themselves in its swim test
+// (docs/PHYSICS.md).
 //
 // Walls also carry the hydrostatic part of their pressure (Adami, Hu & Adams 2012 for a wall at
 // rest, p_b = p_i + rho0_i g . (x_b - x_i)): its push, -dt sum_b V_b (g . (x_b - x_i)) grad W_ib,
@@ -174,7 +175,6 @@ private:
   std::vector<float> piById_;                  // warm start, by particle id
   std::vector<float> qSum_;                    // divergence solve: this step's total q
   std::vector<float> qById_;                   // its warm start, by particle id
-  float qStep_ = 0.0f;                         // the step q was solved with
   std::vector<double> headSum_, headCount_;    // wetWalls: per body kind
   SolverStats stats_;
   std::vector<float> residual_, direction_, weight_;  // divergenceCg: r, d and c_i (0 off the unknowns)
