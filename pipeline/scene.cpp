@@ -109,6 +109,8 @@ void validate(const Scene& scene, const std::string& file) {
       << vec(box.max - box.min);
     fail("container.wall_density", s.str());
   }
+  if (sim.fluid.solver == "dfsph" && sim.fluid.kernel == sim::SphKernel::Mueller2003)
+    fail("fluid.kernel", "dfsph's solves use the cubic spline: 'cubic_spline' or 'auto', got \"mueller2003\"");
   if ((box.max - box.min).minCoeff() < h) {
     std::ostringstream s;
     s << "the container is smaller than the support radius h = " << h << " m on some axis (size "

@@ -20,6 +20,9 @@ inline const EnumTable<sim::DensitySum> kDensitySum{{"mass", sim::DensitySum::Ma
 inline const EnumTable<sim::WallDensity> kWallDensity{{"none", sim::WallDensity::None},
                                                       {"wall_weight", sim::WallDensity::WallWeight},
                                                       {"boundary_particles", sim::WallDensity::BoundaryParticles}};
+inline const EnumTable<sim::SphKernel> kSphKernel{{"auto", sim::SphKernel::Auto},
+                                                  {"mueller2003", sim::SphKernel::Mueller2003},
+                                                  {"cubic_spline", sim::SphKernel::CubicSpline}};
 inline const EnumTable<sim::DivergenceSolve> kDivergenceSolve{{"jacobi", sim::DivergenceSolve::Jacobi},
                                                               {"cg", sim::DivergenceSolve::ConjugateGradient}};
 inline const EnumTable<sim::InitialState> kInitialState{{"lattice", sim::InitialState::Lattice},
@@ -60,6 +63,12 @@ void describe(V& v, sim::FluidParams& p) {
                      "same within one phase, but a particle at the interface of a fluid and a body of another "
                      "density or spacing sees its own rest density instead of a spurious pressure "
                      "(docs/PHYSICS.md)"});
+  v.enumeration("kernel", p.kernel, kSphKernel,
+                {"", "the SPH kernels: 'mueller2003' (the paper's: poly6 in the density sum, spiky in the pressure "
+                     "force; wcsph only), 'cubic_spline' (one cubic spline for both, so the pressure force is the "
+                     "gradient of the density's energy), or 'auto': the solver's own (dfsph: cubic_spline; wcsph: "
+                     "mueller2003), but cubic_spline for wcsph with boundary_particles walls, where the paper's pair "
+                     "let a still tank gain energy (docs/PHYSICS.md)"});
   v.enumeration("solver", p.solver, solverTable(),
                 {"", "pressure solver: 'wcsph' (the paper: p = k_press (rho - rho0), a weakly compressible fluid "
                      "whose compression depends on k_press) or 'dfsph' (divergence-free SPH, Bender & Koschier 2017: "

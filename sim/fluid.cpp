@@ -138,11 +138,19 @@ void computePressure(ParticleSet& particles, float pressureStiffness, NegativePr
 
 namespace {
 
-template <PressureForce Form, bool Pressure>
-void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
+// The walls' penalty on a fluid particle under WCSPH with boundary particles (WallSums), per unit mass.
+inline Eigen::Vector3f wallPenalty(const WallSums& walls, float px, float py, float pz) {
+  const float rest = walls.penaltyRest, k = walls.penaltyStiffness;
+  const Eigen::Vector3f q(px, py, pz);
+  const Eigen::Vector3f below = (walls.box.min + Eigen::Vector3f::Constant(rest) - q).cwiseMax(0.0f);
+  const Eigen::Vector3f above = (q - walls.box.max + Eigen::Vector3f::Constant(rest)).cwiseMax(0.0f);
+  return k * (below - above);
+}
+
+template <PressureForce Form, bool Pressure, bool Cubic>
+void accelerate(const NeighborLists& neighbors, ParticleSet& particles, GradientKernel kernel,
                 const ViscosityKernel& viscosity, float dynamicViscosity, const Eigen::Vector3f& gravity,
-                const WallSums& walls, const float* correction, const float* boundaryGradient,
-                const float* boundaryLift) {
+                const WallSums& walls, const float* correction, const float* boundaryGradient) {
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -153,12 +161,15 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
   const float* rho = particles.density.data();
   const float* p = particles.pressure.data();
   const int64_t* id = particles.id.data();
+  const int* kind = particles.kind.data();
   float* ax = particles.ax.data();
   float* ay = particles.ay.data();
   float* az = particles.az.data();
-  const float h = spiky.h;
-  // Both kernels share the factor 45 / (pi h^6).
-  const float gradC = spiky.gradientCoefficient;
+  const float h = kernel.spiky->h;
+  // The spiky gradient and the viscosity Laplacian share the factor 45 / (pi h^6); the cubic
+  // spline's -dW/dr is summed with its own coefficient.
+  const float gradC = Cubic ? 1.0f : kernel.spiky->gradientCoefficient;
+  const bool penalty = walls.penaltyStiffness > 0.0f;
   const float lapC = viscosity.laplacianCoefficient * dynamicViscosity;
   const float tiny2 = 1e-12f * h * h;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, particles.size(), 512), [&](const tbb::blocked_range<size_t>& range) {
@@ -190,12 +201,16 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
         const float visc = mOverRho * t;
         fvx += visc * (vx[j] - vxi); fvy += visc * (vy[j] - vyi); fvz += visc * (vz[j] - vzi);
         if constexpr (!Pressure) continue;
+        // -dW/dr over the gradient's coefficient: (h - r)^2 (spiky), or the cubic spline's own
+        float slope;
+        if constexpr (Cubic) slope = -kernel.cubic->derivative(dist);
+        else slope = t * t;
         float press;
         if constexpr (Form == PressureForce::Mueller2003)
-          // (5): -m_j (p_i + p_j) / (2 rho_j) * (-45/(pi h^6)) (h - r)^2 r_hat
-          press = 0.5f * mOverRho * (pi + p[j]) * t * t;
-        else  // rho_i m_j (p_i / rho_i^2 + p_j / rho_j^2) (h - r)^2
-          press = rhoI * m[j] * (piOverRho2 + p[j] / (rho[j] * rho[j])) * t * t;
+          // (5): -m_j (p_i + p_j) / (2 rho_j) * grad W
+          press = 0.5f * mOverRho * (pi + p[j]) * slope;
+        else  // rho_i m_j (p_i / rho_i^2 + p_j / rho_j^2) |grad W|
+          press = rhoI * m[j] * (piOverRho2 + p[j] / (rho[j] * rho[j])) * slope;
         if (correction) {
           // (L_i + L_j) / 2 applied to the direction: Bonet & Lok's corrected, symmetrised gradient.
           const float* a = correction + 6 * i;
@@ -209,26 +224,21 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
       }
       float wx = 0, wy = 0, wz = 0;  // wall pressure force density
       if (Pressure && boundaryGradient) {
-        // Boundary particles: psi_b = rho0_i V_b, rho_b = rho0_i, p_b = p_i + rho0_i g . (x_b - x_i)
-        // (Akinci 2012, eq. 10; Adami 2012's hydrostatic wall pressure): a mirrored part on
-        // sum V grad W and the hydrostatic part on sum V (g . (x_b - x_i)) grad W.
+        // Boundary particles: psi_b = rho0_i V_b, rho_b = rho0_i (Akinci 2012, eq. 10). A body
+        // particle's walls carry its own pressure, p_b = p_i (mirrored); a fluid particle's carry
+        // none (p_b = 0), the rest of their push being the penalty below (header).
         const float rho0i = particles.restDensity[i];
-        float factor, liftFactor;
-        if constexpr (Form == PressureForce::Mueller2003) {  // sum psi (p_i + p_b) / (2 rho_b)
-          factor = pi;
-          liftFactor = 0.5f * rho0i;
-        } else {
-          factor = rhoI * rho0i * (piOverRho2 + pi / (rho0i * rho0i));
-          liftFactor = rhoI;
-        }
+        const float pb = kind[i] != 0 || !penalty ? pi : 0.0f;
+        float factor;
+        if constexpr (Form == PressureForce::Mueller2003) factor = 0.5f * (pi + pb);  // sum psi (p_i + p_b) / (2 rho_b)
+        else factor = rhoI * rho0i * (piOverRho2 + pb / (rho0i * rho0i));
         wx -= factor * boundaryGradient[3 * i];
         wy -= factor * boundaryGradient[3 * i + 1];
         wz -= factor * boundaryGradient[3 * i + 2];
-        if (boundaryLift) {
-          wx -= liftFactor * boundaryLift[3 * i];
-          wy -= liftFactor * boundaryLift[3 * i + 1];
-          wz -= liftFactor * boundaryLift[3 * i + 2];
-        }
+      }
+      if (Pressure && penalty && kind[i] == 0) {
+        const Eigen::Vector3f push = rhoI * wallPenalty(walls, xi, yi, zi);  // a force density, like the others
+        wx += push.x(); wy += push.y(); wz += push.z();
       }
       if (Pressure && walls.weights) {
         // Virtual wall particles: rest density rho0, the pressure of particle i (mirror).
@@ -248,27 +258,33 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, const Sp
 
 }  // namespace
 
-void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, const SpikyKernel& spiky,
+void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, GradientKernel kernel,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
-                              const float* correction, bool pressure, const float* boundaryGradient,
-                              const float* boundaryLift) {
+                              const float* correction, bool pressure, const float* boundaryGradient) {
+  const bool cubic = kernel.cubic != nullptr;
   if (!pressure)
-    accelerate<PressureForce::Monaghan1992, false>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
-                                                   walls, nullptr, nullptr, nullptr);
+    accelerate<PressureForce::Monaghan1992, false, false>(neighbors, particles, kernel, viscosity, dynamicViscosity,
+                                                          gravity, walls, nullptr, nullptr);
+  else if (form == PressureForce::Mueller2003 && cubic)
+    accelerate<PressureForce::Mueller2003, true, true>(neighbors, particles, kernel, viscosity, dynamicViscosity,
+                                                       gravity, walls, nullptr, boundaryGradient);
   else if (form == PressureForce::Mueller2003)
-    accelerate<PressureForce::Mueller2003, true>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
-                                                 walls, nullptr, boundaryGradient, boundaryLift);
+    accelerate<PressureForce::Mueller2003, true, false>(neighbors, particles, kernel, viscosity, dynamicViscosity,
+                                                        gravity, walls, nullptr, boundaryGradient);
+  else if (cubic)
+    accelerate<PressureForce::Monaghan1992, true, true>(neighbors, particles, kernel, viscosity, dynamicViscosity,
+                                                        gravity, walls, correction, boundaryGradient);
   else
-    accelerate<PressureForce::Monaghan1992, true>(neighbors, particles, spiky, viscosity, dynamicViscosity, gravity,
-                                                  walls, correction, boundaryGradient, boundaryLift);
+    accelerate<PressureForce::Monaghan1992, true, false>(neighbors, particles, kernel, viscosity, dynamicViscosity,
+                                                         gravity, walls, correction, boundaryGradient);
 }
 
-void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet& particles, const SpikyKernel& spiky,
+void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet& particles, GradientKernel kernel,
                                const ContainerParams& box, std::vector<float>& correction) {
   const size_t n = particles.size();
   correction.resize(6 * n);
-  const float h = spiky.h;
+  const float h = kernel.spiky->h;
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -287,7 +303,8 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
         const Eigen::Vector3f d(x[i] - x[j], y[i] - y[j], z[i] - z[j]);
         const float r = d.norm();
         if (r <= 1e-6f * h) continue;
-        M += (m[j] / rho[j] * -spiky.derivative(r) / r) * (d * d.transpose());
+        const float slope = kernel.cubic ? -kernel.cubic->derivative(r) : -kernel.spiky->derivative(r);
+        M += (m[j] / rho[j] * slope / r) * (d * d.transpose());
       }
       if (!(M.determinant() > 0.25f)) continue;
       const Eigen::Matrix3f L = M.inverse();

@@ -63,6 +63,14 @@ enum class DensitySum {
            // sees its own rest density; identical to (3) within one phase
 };
 
+// The SPH kernels of the density sum and of the pressure gradient.
+enum class SphKernel {
+  Auto,         // the solver's own (DFSPH: the cubic spline; WCSPH: the paper's), except WCSPH with
+                // boundary-particle walls: the cubic spline (docs/PHYSICS.md, "Walls under WCSPH")
+  Mueller2003,  // the paper's: poly6 in the density sum (3), spiky in the pressure force (5) (WCSPH only)
+  CubicSpline,  // one cubic spline for both, so the pressure force is the gradient of the density's energy
+};
+
 struct FluidParams {
   float spacing = 1.0f;             // l_avr, m (SPEC §2)
   float supportRadius = 1.5f;       // h / l_avr (SPEC §2: r_e = 1.5 l_avr)
@@ -77,6 +85,7 @@ struct FluidParams {
   // a degenerate neighbourhood (free surface) keep the plain gradient.
   bool gradientCorrection = false;
   DensitySum densitySum = DensitySum::Mass;
+  SphKernel kernel = SphKernel::Auto;  // resolved by resolvedKernel() before a simulation starts
   // The pressure solver (sim/solvers/): "wcsph" (the paper's equation of state (4)) or "dfsph"
   // (divergence-free SPH, Bender & Koschier 2015/2017). Names: sim::pressureSolverNames().
   std::string solver = "wcsph";

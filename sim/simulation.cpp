@@ -106,6 +106,7 @@ Simulation::Simulation(SimParams params)
   const FluidParams& fluid = params_.fluid;
   if (!(fluid.spacing > 0.0f) || !(fluid.supportRadius > 0.0f) || !(fluid.restDensity > 0.0f))
     throw std::invalid_argument("simulation: spacing, support radius and rest density must be > 0");
+  params_.fluid.kernel = resolvedKernel(params_.fluid, params_.container.wallDensity);
   solver_ = makePressureSolver(fluid);
   grid_.configure(params_.container.min, params_.container.max, fluid.supportRadiusMetres());
   fluidMass_ = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity,
@@ -119,6 +120,12 @@ Simulation::Simulation(SimParams params)
   }
   wallSums_.box = params_.container;
   wallSums_.restDensity = fluid.restDensity;
+  if (boundary_ && solver_->pressureInForces()) {
+    // WCSPH's walls of boundary particles (fluid.h, docs/PHYSICS.md "Walls under WCSPH"): as stiff
+    // as the fluid, k = c^2 / l^2, holding the first layer at its lattice place, half a spacing in.
+    wallSums_.penaltyStiffness = fluid.pressureStiffness / (fluid.spacing * fluid.spacing);
+    wallSums_.penaltyRest = 0.5f * fluid.spacing;
+  }
   std::vector<std::vector<Eigen::Vector3f>> blockPoints;
   size_t expected = 0;
   for (const FluidBlock& block : params_.fluidBlocks) {
@@ -267,13 +274,11 @@ void Simulation::computeAccelerations() {
     const bool pressure = solver_->pressureInForces();
     const bool correct = pressure && params_.fluid.gradientCorrection &&
                          params_.fluid.pressureForce == PressureForce::Monaghan1992;
-    if (correct) computeGradientCorrection(neighbors_, particles_, spiky_, params_.container, correction_);
-    computeFluidAcceleration(neighbors_, particles_, spiky_, viscosity_, mu, params_.gravity,
+    const GradientKernel kernel{&spiky_, solver_->densityKernel() == DensityKernel::CubicSpline ? &cubic_ : nullptr};
+    if (correct) computeGradientCorrection(neighbors_, particles_, kernel, params_.container, correction_);
+    computeFluidAcceleration(neighbors_, particles_, kernel, viscosity_, mu, params_.gravity,
                              params_.fluid.pressureForce, wallSums_, correct ? correction_.data() : nullptr, pressure,
-                             boundary_ ? boundaryGradient_.data() : nullptr,
-                             // The hydrostatic wall pressure made WCSPH's still tank worse over its first
-                             // second (surface 1.17 % / slabs 40 % against 0.71 % / 27.8 %): DFSPH only.
-                             nullptr);
+                             boundary_ ? boundaryGradient_.data() : nullptr);
   }
 }
 

@@ -156,6 +156,7 @@ struct TankCase {
   float spacing;
   double from, to;                             // the averaging window, s
   double surfaceTolerance, pressureTolerance;  // fractions
+  double rmsSpeed;                             // m/s, the fluid's at the end
 };
 
 void PrintTo(const TankCase& c, std::ostream* os) { *os << c.solver << " l = " << c.spacing; }
@@ -178,20 +179,27 @@ TEST_P(HydrostaticTank, SettledSurfaceAndInteriorPressure) {
   }
   const double surfaceError = std::fabs(surfaceSum / samples - 20.0) / 20.0;
   const double worstPressure = slabs.worst();
+  // How still the tank is at the end: the fluid's RMS speed.
+  const ParticleSet& end = sim.particles();
+  double v2 = 0.0;
+  for (size_t i = 0; i < end.size(); ++i) v2 += end.vx[i] * end.vx[i] + end.vy[i] * end.vy[i] + end.vz[i] * end.vz[i];
+  const double rms = std::sqrt(v2 / double(end.size()));
+  EXPECT_LT(rms, c.rmsSpeed);
   EXPECT_GT(slabs.count(), 5);
   EXPECT_LT(surfaceError, c.surfaceTolerance);
   EXPECT_LT(worstPressure, c.pressureTolerance);
   std::printf("%s, l = %.1f m, %.0f-%.0f s: mean free surface within %.2f %% of 20 m, worst interior slab pressure "
-              "%.2f %% off rho0 g (20 m - z)\n", c.solver.c_str(), double(c.spacing), c.from, c.to, 100.0 * surfaceError,
-              100.0 * worstPressure);
+              "%.2f %% off rho0 g (20 m - z), RMS speed at %.0f s %.3f m/s\n", c.solver.c_str(), double(c.spacing), c.from,
+              c.to, 100.0 * surfaceError, 100.0 * worstPressure, c.to, rms);
   RecordProperty("surface_error", std::to_string(surfaceError));
   RecordProperty("worst_slab_pressure_error", std::to_string(worstPressure));
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, HydrostaticTank,
-                         ::testing::Values(TankCase{"dfsph", 1.0f, 2.0, 5.0, 0.005, 0.035},
-                                           TankCase{"dfsph", 0.5f, 2.0, 5.0, 0.005, 0.035},
-                                           TankCase{"wcsph", 1.0f, 0.0, 1.0, 0.01, 0.35}),
+                         ::testing::Values(TankCase{"dfsph", 1.0f, 2.0, 5.0, 0.005, 0.035, 1.0},
+                                           TankCase{"dfsph", 0.5f, 2.0, 5.0, 0.005, 0.035, 1.0},
+                                           TankCase{"wcsph", 1.0f, 2.0, 5.0, 0.03, 0.03, 0.3},
+                                           TankCase{"wcsph", 0.5f, 2.0, 5.0, 0.03, 0.045, 0.3}),
                          [](const auto& info) {
                            return info.param.solver + (info.param.spacing < 1.0f ? "_half_metre" : "_one_metre");
                          });

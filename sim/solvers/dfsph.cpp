@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <stdexcept>
 
 namespace kurage::sim {
 
@@ -23,6 +24,8 @@ DfsphSolver::DfsphSolver(const FluidParams& fluid)
       maxDensityError_(0.01f * fluid.maxDensityError), maxDivergenceError_(0.01f * fluid.maxDivergenceError),
       maxIterations_(fluid.maxIterations), maxDivergenceIterations_(fluid.maxDivergenceIterations),
       divergenceSolve_(fluid.divergenceSolve) {
+  if (fluid.kernel == SphKernel::Mueller2003)
+    throw std::invalid_argument("dfsph: its solves use the cubic spline kernel, not the paper's poly6 and spiky");
   // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l).
   const int reach = int(std::ceil(fluid.supportRadius));
   for (int a = -reach; a <= reach; ++a)

@@ -37,4 +37,11 @@ std::unique_ptr<PressureSolver> makePressureSolver(const FluidParams& fluid) {
 
 DensityKernel densityKernelOf(const FluidParams& fluid) { return makePressureSolver(fluid)->densityKernel(); }
 
+SphKernel resolvedKernel(const FluidParams& fluid, WallDensity walls) {
+  if (fluid.kernel != SphKernel::Auto) return fluid.kernel;
+  if (densityKernelOf(fluid) == DensityKernel::CubicSpline || walls == WallDensity::BoundaryParticles)
+    return SphKernel::CubicSpline;
+  return SphKernel::Mueller2003;
+}
+
 }  // namespace kurage::sim

@@ -8,9 +8,11 @@ namespace kurage::sim {
 
 class WcsphSolver final : public PressureSolver {
 public:
-  explicit WcsphSolver(const FluidParams& fluid) : stiffness_(fluid.pressureStiffness), negative_(fluid.negativePressure) {}
+  explicit WcsphSolver(const FluidParams& fluid)
+      : stiffness_(fluid.pressureStiffness), negative_(fluid.negativePressure),
+        kernel_(fluid.kernel == SphKernel::CubicSpline ? DensityKernel::CubicSpline : DensityKernel::Poly6) {}
   std::string_view name() const override { return "wcsph"; }
-  DensityKernel densityKernel() const override { return DensityKernel::Poly6; }
+  DensityKernel densityKernel() const override { return kernel_; }
   bool pressureInForces() const override { return true; }
   bool incompressible() const override { return false; }
   void afterDensity(const SolverContext& context) override;
@@ -23,6 +25,7 @@ protected:
 private:
   float stiffness_;
   NegativePressure negative_;
+  DensityKernel kernel_;  // poly6 (the paper's, with the spiky gradient) or the cubic spline
   SolverStats stats_;
 };
 
