@@ -46,6 +46,12 @@ const BadScene kBadScenes[] = {
      "must be >= 1, got 0"},
     {"UnknownDivergenceSolve", [](json& s) { s["fluid"]["divergence_solve"] = "gmres"; }, "fluid.divergence_solve",
      "must be one of \"jacobi\", \"cg\", got \"gmres\""},
+    {"DfsphWithThePapersKernels", [](json& s) {
+       s["fluid"]["solver"] = "dfsph";
+       s["fluid"]["kernel"] = "mueller2003";
+     }, "fluid.kernel", "dfsph's solves use the cubic spline"},
+    {"UnknownKernel", [](json& s) { s["fluid"]["kernel"] = "wendland"; }, "fluid.kernel",
+     "must be one of \"auto\", \"mueller2003\", \"cubic_spline\", got \"wendland\""},
     {"BoundaryParticlesThinContainer", [](json& s) {
        s["container"]["wall_density"] = "boundary_particles";
        s["container"]["max"] = {16, 1.2, 10};
