@@ -27,7 +27,7 @@ struct WallSums {
 // (3) rho_i = sum_j m_j W_poly6(r_ij) (+ the walls' Z(d)), or with DensitySum::Volume
 // rho_i = rho0_i sum_j (m_j / rho0_j) W_poly6(r_ij); also finds every particle's neighbours
 // (|r_ij| < h).
-// The kernel is poly6 (WCSPH, the paper) or the cubic spline (DFSPH). `boundaryVolume`, when not
+// The kernel is poly6 (the paper's, WCSPH's by default) or the cubic spline (DFSPH; fluid.kernel). `boundaryVolume`, when not
 // null, holds each particle's sum_b V_b W_ib over the walls' boundary particles: rho_i gains
 // rho0_i times it (Akinci et al. 2012, boundary_particles.h).
 void computeDensity(const NeighborGrid& grid, ParticleSet& particles, const Poly6Kernel& poly6,
@@ -53,8 +53,9 @@ struct GradientKernel {
 // (6) f_i^vis   = mu sum_j m_j (v_j - v_i) / rho_j lap W_visc(|r_ij|),  mu = rho0 nu
 // writes a_i = (f_i^press + f_i^vis) / rho_i + gravity  (force densities divided by density).
 // With the spiky gradient two particles at the same position push each other apart along +-x,
-// ordered by id, so the result stays finite and symmetric (the cubic spline's gradient vanishes there). With `pressure` false only viscosity and gravity are added
-// (a solver that corrects velocities itself, DFSPH). `boundaryGradient`, when not null, holds each
+// ordered by id, so the result stays finite and symmetric (the cubic spline's gradient vanishes
+// there). With `pressure` false only viscosity and gravity are added (a solver that corrects
+// velocities itself, DFSPH). `boundaryGradient`, when not null, holds each
 // particle's sum_b V_b grad W over the walls' boundary particles. A body particle is pushed by the
 // walls with its own pressure mirrored (p_b = p_i, rho_b = rho0_i; Akinci et al. 2012); a fluid
 // particle by the part of that push that is the gradient of its density's energy (p_b = 0: the
