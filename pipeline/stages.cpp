@@ -478,6 +478,8 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
                 << "): the density error there is above the tolerance; see run.json stages.sim.solver\n";
   }
   if (const sim::BoundaryParticles* bp = simulation.boundaryParticles()) solver["boundary_particles"] = bp->size();
+  // fluid.kernel as run ("auto" resolved)
+  solver["kernel"] = simulation.params().fluid.kernel == sim::SphKernel::CubicSpline ? "cubic_spline" : "mueller2003";
   const sim::StepLimit stability = simulation.stabilityLimit();
   record.data()["derived"] = {
       {"fluid_particle_mass_kg", simulation.fluidParticleMass()},

@@ -201,16 +201,16 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
         const float visc = mOverRho * t;
         fvx += visc * (vx[j] - vxi); fvy += visc * (vy[j] - vyi); fvz += visc * (vz[j] - vzi);
         if constexpr (!Pressure) continue;
-        // -dW/dr over the gradient's coefficient: (h - r)^2 (spiky), or the cubic spline's own
-        float slope;
-        if constexpr (Cubic) slope = -kernel.cubic->derivative(dist);
-        else slope = t * t;
         float press;
         if constexpr (Form == PressureForce::Mueller2003)
           // (5): -m_j (p_i + p_j) / (2 rho_j) * grad W
-          press = 0.5f * mOverRho * (pi + p[j]) * slope;
+          press = 0.5f * mOverRho * (pi + p[j]);
         else  // rho_i m_j (p_i / rho_i^2 + p_j / rho_j^2) |grad W|
-          press = rhoI * m[j] * (piOverRho2 + p[j] / (rho[j] * rho[j])) * slope;
+          press = rhoI * m[j] * (piOverRho2 + p[j] / (rho[j] * rho[j]));
+        // times -dW/dr over the gradient's coefficient: the cubic spline's own, or (h - r)^2 for
+        // the spiky kernel (multiplied in this order, the paper's scenes keep their floats)
+        if constexpr (Cubic) press *= -kernel.cubic->derivative(dist);
+        else press = press * t * t;
         if (correction) {
           // (L_i + L_j) / 2 applied to the direction: Bonet & Lok's corrected, symmetrised gradient.
           const float* a = correction + 6 * i;

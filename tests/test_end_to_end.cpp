@@ -69,6 +69,8 @@ TEST(EndToEnd, TinyDamBreakThroughAllStages) {
   EXPECT_FALSE(run["versions"]["openvdb"].get<std::string>().empty());
   EXPECT_FALSE(run["versions"]["embree"].get<std::string>().empty());
   EXPECT_GT(run["derived"]["fluid_particle_mass_kg"], 0.0);
+  EXPECT_EQ(run["parameters"]["fluid"]["kernel"], "auto");
+  EXPECT_EQ(run["stages"]["sim"]["solver"]["kernel"], "mueller2003") << "auto, resolved: WCSPH with the paper's walls";
   // A fluid-only scene runs no body stage (issue 7: only the effects a scene calls for).
   const auto ran = [](const nlohmann::json& record, const std::string& stage) {
     for (const auto& s : record["stages"]["sim"]["stages_run"])
