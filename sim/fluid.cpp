@@ -181,8 +181,11 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
       const float piOverRho2 = pi / (rhoI * rhoI);
       float fpx = 0, fpy = 0, fpz = 0;  // pressure force density / (45 / (pi h^6))
       float fvx = 0, fvy = 0, fvz = 0;  // viscosity force density / (mu 45 / (pi h^6))
+      // The cubic spline's W'(r)/r per neighbour, kept by the density pass (NeighborLists::slopes)
+      const float* slope = Cubic ? neighbors.slopes(i / NeighborLists::kChunk).data() + neighbors.offset(i) : nullptr;
       for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it) {
         const uint32_t j = *it;
+        const float slopeJ = Cubic ? *slope++ : 0.0f;
         // r_vec = r_i - r_j
         const float dx = xi - x[j], dy = yi - y[j], dz = zi - z[j];
         const float r2 = dx * dx + dy * dy + dz * dz;
@@ -209,7 +212,7 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
           press = rhoI * m[j] * (piOverRho2 + p[j] / (rho[j] * rho[j]));
         // times -dW/dr over the gradient's coefficient: the cubic spline's own, or (h - r)^2 for
         // the spiky kernel (multiplied in this order, the paper's scenes keep their floats)
-        if constexpr (Cubic) press *= -kernel.cubic->derivative(dist);
+        if constexpr (Cubic) press *= -slopeJ * dist;
         else press = press * t * t;
         if (correction) {
           // (L_i + L_j) / 2 applied to the direction: Bonet & Lok's corrected, symmetrised gradient.

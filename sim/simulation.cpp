@@ -225,11 +225,14 @@ void Simulation::computeBoundaryTerms() {
   boundaryLift_.resize(3 * n);
   const Eigen::Vector3f gravity = params_.gravity;
   const bool cubic = solver_->densityKernel() == DensityKernel::CubicSpline;
+  const bool lifts = !solver_->pressureInForces();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Eigen::Vector3f grad, lift = Eigen::Vector3f::Zero();
-      if (cubic) boundary_->sums(cubic_, cubic_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, &lift);
-      else boundary_->sums(poly6_, spiky_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, &lift);
+      // The hydrostatic sum only for a solver that reads it (DFSPH; WCSPH's walls: fluid.h)
+      Eigen::Vector3f* hydrostatic = lifts ? &lift : nullptr;
+      if (cubic) boundary_->sums(cubic_, cubic_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, hydrostatic);
+      else boundary_->sums(poly6_, spiky_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, hydrostatic);
       boundaryGradient_[3 * i] = grad.x(); boundaryGradient_[3 * i + 1] = grad.y(); boundaryGradient_[3 * i + 2] = grad.z();
       boundaryLift_[3 * i] = lift.x(); boundaryLift_[3 * i + 1] = lift.y(); boundaryLift_[3 * i + 2] = lift.z();
     }

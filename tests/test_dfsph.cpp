@@ -163,11 +163,12 @@ TEST(BoundaryParticles, ALatticeParticleAtAWallEdgeOrCornerHasTheRestDensity) {
 // the divergence solve's impulse over the step: the hydrostatic load moves between them). The
 // issue asks for the surface within 0.5 % and every slab within 2 %: measured, surface 0.24 % /
 // 0.24 %, slabs 2.46 % / 2.54 % (l = 1 / 0.5 m), every slab reading 1.3-2.5 % above
-// rho0 g (H - z) (docs/PHYSICS.md traces it to where the water is, not to the pressure). WCSPH
+// rho0 g (H - z) (docs/PHYSICS.md traces it to the motion the 0.1 % tolerance leaves and to where
+// the water is, not to the pressure: at 0.01 % the slabs are within 0.92 %). WCSPH
 // (k = 20000, its walls of boundary particles energy-consistent, docs/PHYSICS.md "Walls under
-// WCSPH"), asked for 3 %: surface 0.58 % / 1.01 %, slabs 1.87 % / 3.96 % (the 0.5 m column's top
+// WCSPH"), asked for 3 %: surface 0.58 % / 1.01 %, slabs 1.86 % / 4.13 % (the 0.5 m column's top
 // slabs, 2-3 m deep, read low: it settled 0.2 m). The fluid's RMS speed at the end is bounded too:
-// 0.20 / 0.25 m/s for WCSPH (23 m/s with the mirrored walls, which boiled the tank), 0.69 /
+// 0.20 / 0.26 m/s for WCSPH (23 m/s with the mirrored walls, which boiled the tank), 0.69 /
 // 0.72 m/s for DFSPH (its still tank is not calm: docs/PHYSICS.md).
 struct TankCase {
   std::string solver;
@@ -235,7 +236,7 @@ TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
     }
     std::printf("%s: hydrostatic start, free surface moved at most %.3f m in 1 s (depth %.2f m)\n", solver.c_str(),
                 worst, start);
-    EXPECT_LT(worst, 0.01 * start) << solver;  // measured 0.033 m (dfsph), 0.085 m (wcsph)
+    EXPECT_LT(worst, 0.01 * start) << solver;  // measured 0.033 m (dfsph), 0.060 m (wcsph)
   }
 }
 

@@ -10,29 +10,29 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-10.9906 0.000344201 "wcsph c20"
-20.6479 8.63571e-05 "wcsph c40"
-39.6633 2.07072e-05 "wcsph c80"
-72.5603 4.74249e-06 "wcsph c160"
+11.2632 0.000344301 "wcsph c20"
+21.2764 8.65284e-05 "wcsph c40"
+39.8729 2.07458e-05 "wcsph c80"
+75.8185 4.72218e-06 "wcsph c160"
 EOD
 $series1 << EOD
-25.8639 8.98236e-05 "wcsph c40 bp"
-50.1011 2.24874e-05 "wcsph c80 bp"
+25.554 8.99286e-05 "wcsph c40 bp"
+48.9912 2.24717e-05 "wcsph c80 bp"
 EOD
 $series2 << EOD
-2.55599 0.000688618 "dfsph 1%"
-2.55893 0.000674264 "dfsph 0.3%"
-2.70105 0.000516611 "dfsph 0.1%"
-3.22896 0.000380714 "dfsph 0.03%"
+2.71939 0.000688618 "dfsph 1%"
+2.71591 0.000674264 "dfsph 0.3%"
+2.8925 0.000516611 "dfsph 0.1%"
+3.33804 0.000380714 "dfsph 0.03%"
 EOD
 $series3 << EOD
-2.57868 0.000571295 "1%"
-2.70956 0.000482223 "0.1%"
-3.38955 0.000375419 "0.03%"
+2.63268 0.000571295 "1%"
+2.8518 0.000482223 "0.1%"
+3.30151 0.000375419 "0.03%"
 EOD
 $series4 << EOD
-2.55599 0.001 ""
-72.5603 0.001 ""
+2.63268 0.001 ""
+75.8185 0.001 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"
