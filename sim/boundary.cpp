@@ -37,13 +37,19 @@ void enforceBoxWalls(ParticleSet& particles, const ContainerParams& container, f
 
 namespace kurage::sim {
 
-WallWeights::WallWeights(float spacing, float supportRadius, float particleMass) : h_(supportRadius) {
+WallWeights::WallWeights(float spacing, float supportRadius, float particleMass, DensityKernel kernel)
+    : h_(supportRadius) {
   const int samples = 128;
   step_ = h_ / (samples - 1);
   density_.assign(samples, 0.0f);
   gradient_.assign(samples, 0.0f);
+  // The fluid's own pair: poly6 and spiky (the paper's), or the cubic spline for both.
   const Poly6Kernel poly6(h_);
   const SpikyKernel spiky(h_);
+  const CubicSplineKernel cubic(h_);
+  const bool paper = kernel == DensityKernel::Poly6;
+  const auto W = [&](double r) { return double(paper ? poly6(float(r)) : cubic(float(r))); };
+  const auto dW = [&](double r) { return double(paper ? spiky.derivative(float(r)) : cubic.derivative(float(r))); };
   const int lateral = 8;  // lateral offsets averaged per axis
   const int reach = int(std::ceil(h_ / spacing)) + 1;
   for (int s = 0; s < samples; ++s) {
@@ -60,8 +66,8 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass)
               const double dz = d + (k + 0.5) * spacing;  // normal separation
               const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
               if (r >= h_) continue;
-              rho += poly6(float(r));
-              grad += -spiky.derivative(float(r)) * dz / r;  // -dW/dr r_hat . n, r_hat . n = dz / r
+              rho += W(r);
+              grad += -dW(r) * dz / r;  // -dW/dr r_hat . n, r_hat . n = dz / r
             }
     const double norm = double(lateral) * lateral;
     density_[size_t(s)] = float(particleMass * rho / norm);
@@ -77,7 +83,7 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass)
       for (int i = -reach; i <= reach; ++i) {
         const double dz = 0.5 * spacing + (k + 0.5) * spacing;
         const double r = std::sqrt(double(i * i + j * j) * spacing * spacing + dz * dz);
-        aligned += poly6(float(r));
+        aligned += W(r);
       }
   const double scale = particleMass * aligned / lookup(density_, 0.5f * spacing);
   for (float& v : density_) v = float(v * scale);
@@ -100,8 +106,8 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass)
               const double a3 = (k + (o + 0.5) / lateral) * spacing;
               const double r = std::sqrt(a1 * a1 + a2 * a2 + a3 * a3);
               if (r >= h_) continue;
-              rho += poly6(float(r));
-              const double dw = -spiky.derivative(float(r));
+              rho += W(r);
+              const double dw = -dW(r);
               g1 += dw * a1 / r;
               g2 += dw * a2 / r;
             }

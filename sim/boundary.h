@@ -32,7 +32,9 @@ void enforceBoxWalls(ParticleSet& particles, const ContainerParams& container, f
 
 class WallWeights {
 public:
-  WallWeights(float spacing, float supportRadius, float particleMass);
+  // Tabulated with the fluid's density kernel and its gradient partner (poly6 and spiky, or the
+  // cubic spline for both), so that the walls continue the sums the fluid makes.
+  WallWeights(float spacing, float supportRadius, float particleMass, DensityKernel kernel = DensityKernel::Poly6);
 
   // Sum over the virtual wall lattice of m W_poly6, for a particle at distance d in front of the
   // wall (d >= h gives 0; d < 0 is treated as 0).

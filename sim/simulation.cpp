@@ -9,6 +9,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
 #include <chrono>
 #include <cmath>
@@ -115,7 +116,8 @@ Simulation::Simulation(SimParams params)
     boundary_ = std::make_unique<BoundaryParticles>(params_.container, fluid.spacing, fluid.supportRadiusMetres(),
                                                     fluidMass_ / fluid.restDensity);
   if (params_.container.wallDensity == WallDensity::WallWeight) {
-    wallWeights_ = std::make_unique<WallWeights>(fluid.spacing, fluid.supportRadiusMetres(), fluidMass_);
+    wallWeights_ = std::make_unique<WallWeights>(fluid.spacing, fluid.supportRadiusMetres(), fluidMass_,
+                                                 solver_->densityKernel());
     wallSums_.weights = wallWeights_.get();
   }
   wallSums_.box = params_.container;
@@ -186,6 +188,8 @@ SolverContext Simulation::solverContext() {
     c.boundaryVolume = boundaryVolume_.data();
     c.boundaryGradient = boundaryGradient_.data();
     c.boundaryLift = boundaryLift_.data();
+  } else if (wallWeights_ && !solver_->pressureInForces()) {
+    c.boundaryGradient = boundaryGradient_.data();  // the wall weights' (computeWallWeightGradient)
   }
   c.lastStep = lastStep_;
   c.gravity = params_.gravity;
@@ -239,6 +243,22 @@ void Simulation::computeBoundaryTerms() {
   });
 }
 
+void Simulation::computeWallWeightGradient() {
+  StageTimer timer(stats_, Stage::Boundary);
+  const ParticleSet& p = particles_;
+  const size_t n = p.size();
+  boundaryGradient_.resize(3 * n);
+  const float h = params_.fluid.supportRadiusMetres(), rho0 = params_.fluid.restDensity;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      // The table's G(d) n is -sum_b m grad W_ib over the virtual wall lattice: sum_b V_b grad W_ib
+      // with V_b = m / rho0, as boundary particles give it.
+      const Eigen::Vector3f g = -boxWallContribution(*wallWeights_, params_.container, h, p.x[i], p.y[i], p.z[i]).gradient / rho0;
+      boundaryGradient_[3 * i] = g.x(); boundaryGradient_[3 * i + 1] = g.y(); boundaryGradient_[3 * i + 2] = g.z();
+    }
+  });
+}
+
 void Simulation::sortParticles() {
   StageTimer timer(stats_, Stage::Sort);
   grid_.sort(particles_.x.data(), particles_.y.data(), particles_.z.data(), particles_.size(), order_);
@@ -255,6 +275,7 @@ void Simulation::computeAccelerations() {
     bodies_->updateRestDensity(particles_);
   }
   const float* boundaryVolume = nullptr;
+  if (wallWeights_ && !solver_->pressureInForces()) computeWallWeightGradient();
   if (boundary_) {
     computeBoundaryTerms();
     boundaryVolume = boundaryVolume_.data();

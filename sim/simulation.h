@@ -109,6 +109,8 @@ public:
 private:
   void sortParticles();
   void computeBoundaryTerms();
+  // DFSPH with wall weights: boundaryGradient_ from the walls' tables (sum_b V_b grad W_ib).
+  void computeWallWeightGradient();
   void measureDensityError();
   void computeAccelerations();
   SolverContext solverContext();
@@ -129,7 +131,7 @@ private:
   std::unique_ptr<PressureSolver> solver_;
   std::unique_ptr<BoundaryParticles> boundary_;
   std::vector<float> boundaryVolume_;    // per particle: sum_b V_b W_ib (density kernel)
-  std::vector<float> boundaryGradient_;  // per particle, 3 floats: sum_b V_b grad W_ib (solver's gradient)
+  std::vector<float> boundaryGradient_;  // (also DFSPH's with wall weights: computeWallWeightGradient)  // per particle, 3 floats: sum_b V_b grad W_ib (solver's gradient)
   std::vector<float> boundaryLift_;      // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
   float lastStep_ = 0.0f;
   std::vector<double> errorPartial_;     // per chunk sums of measureDensityError()
