@@ -43,6 +43,8 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass,
   step_ = h_ / (samples - 1);
   density_.assign(samples, 0.0f);
   gradient_.assign(samples, 0.0f);
+  liftNormal_.assign(samples, 0.0f);
+  liftTangential_.assign(samples, 0.0f);
   // The fluid's own pair: poly6 and spiky (the paper's), or the cubic spline for both.
   const Poly6Kernel poly6(h_);
   const SpikyKernel spiky(h_);
@@ -54,7 +56,7 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass,
   const int reach = int(std::ceil(h_ / spacing)) + 1;
   for (int s = 0; s < samples; ++s) {
     const double d = s * step_;
-    double rho = 0.0, grad = 0.0;
+    double rho = 0.0, grad = 0.0, liftN = 0.0, liftT = 0.0;
     for (int oy = 0; oy < lateral; ++oy)
       for (int ox = 0; ox < lateral; ++ox)
         for (int k = 0; k <= reach; ++k)
@@ -67,11 +69,15 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass,
               const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
               if (r >= h_) continue;
               rho += W(r);
-              grad += -dW(r) * dz / r;  // -dW/dr r_hat . n, r_hat . n = dz / r
+              grad += -dW(r) * dz / r;
+              liftN += dW(r) / r * dz * dz;                    // (header: lift)
+              liftT += dW(r) / r * 0.5 * (dx * dx + dy * dy);  // -dW/dr r_hat . n, r_hat . n = dz / r
             }
     const double norm = double(lateral) * lateral;
     density_[size_t(s)] = float(particleMass * rho / norm);
     gradient_[size_t(s)] = float(particleMass * grad / norm);
+    liftNormal_[size_t(s)] = float(particleMass * liftN / norm);
+    liftTangential_[size_t(s)] = float(particleMass * liftT / norm);
   }
   // Calibration (as for the particle mass): a particle of the initial lattice next to a wall, half
   // a spacing from it, gets exactly the density it would have deep inside the fluid. The lateral
@@ -88,6 +94,8 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass,
   const double scale = particleMass * aligned / lookup(density_, 0.5f * spacing);
   for (float& v : density_) v = float(v * scale);
   for (float& v : gradient_) v = float(v * scale);
+  for (float& v : liftNormal_) v = float(v * scale);
+  for (float& v : liftTangential_) v = float(v * scale);
 
   // Edge table: lattice points behind both walls (depths (i + 1/2) l and (j + 1/2) l), averaged
   // over the offset along the edge, with the same calibration.

@@ -51,11 +51,19 @@ public:
   };
   Edge edge(float d1, float d2) const;
 
+  // The walls' hydrostatic term for DFSPH (boundary_particles.h: sum_b m (g . (x_b - x)) grad W_ib
+  // over the virtual lattice, Adami et al. 2012): for gravity g, a wall of inward normal n and a
+  // particle at distance d it is -(g . n) A(d) n - B(d) (g - (g . n) n), with
+  // A(d) = sum m W'(r)/r s^2 and B(d) = sum m W'(r)/r |t|^2 / 2 (s the normal and t the lateral
+  // separation; the terms odd in t vanish in the lateral average).
+  float liftNormal(float d) const { return lookup(liftNormal_, d); }
+  float liftTangential(float d) const { return lookup(liftTangential_, d); }
+
 private:
   float lookup(const std::vector<float>& table, float d) const;
   float h_;
   float step_;
-  std::vector<float> density_, gradient_;
+  std::vector<float> density_, gradient_, liftNormal_, liftTangential_;
   int edgeSamples_ = 0;
   float edgeStep_ = 0.0f;
   std::vector<Edge> edge_;  // edgeSamples_^2, index i1 * edgeSamples_ + i2
@@ -100,6 +108,24 @@ inline WallContribution boxWallContribution(const WallWeights& weights, const Co
       c.gradient[b] -= sign[b] * e.gradient2;
     }
   return c;
+}
+
+// The walls' hydrostatic term (WallWeights::liftNormal) summed over the walls within reach, per
+// unit mass of the virtual particles (the edges' double count is not removed: a small overcount
+// within h of an edge).
+inline Eigen::Vector3f boxWallLift(const WallWeights& weights, const ContainerParams& box, float h,
+                                   const Eigen::Vector3f& x, const Eigen::Vector3f& g) {
+  Eigen::Vector3f lift = Eigen::Vector3f::Zero();
+  for (int a = 0; a < 3; ++a)
+    for (const float side : {1.0f, -1.0f}) {
+      const float d = side > 0.0f ? x[a] - box.min[a] : box.max[a] - x[a];
+      if (d >= h) continue;
+      Eigen::Vector3f n = Eigen::Vector3f::Zero();
+      n[a] = side;  // inward
+      const float gn = g.dot(n);
+      lift -= gn * weights.liftNormal(d) * n + weights.liftTangential(d) * (g - gn * n);
+    }
+  return lift;
 }
 
 }  // namespace kurage::sim

@@ -9,7 +9,6 @@
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <limits>
 #include <chrono>
 #include <cmath>
@@ -190,6 +189,7 @@ SolverContext Simulation::solverContext() {
     c.boundaryLift = boundaryLift_.data();
   } else if (wallWeights_ && !solver_->pressureInForces()) {
     c.boundaryGradient = boundaryGradient_.data();  // the wall weights' (computeWallWeightGradient)
+    c.boundaryLift = boundaryLift_.data();
   }
   c.lastStep = lastStep_;
   c.gravity = params_.gravity;
@@ -248,6 +248,7 @@ void Simulation::computeWallWeightGradient() {
   const ParticleSet& p = particles_;
   const size_t n = p.size();
   boundaryGradient_.resize(3 * n);
+  boundaryLift_.resize(3 * n);
   const float h = params_.fluid.supportRadiusMetres(), rho0 = params_.fluid.restDensity;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -255,6 +256,9 @@ void Simulation::computeWallWeightGradient() {
       // with V_b = m / rho0, as boundary particles give it.
       const Eigen::Vector3f g = -boxWallContribution(*wallWeights_, params_.container, h, p.x[i], p.y[i], p.z[i]).gradient / rho0;
       boundaryGradient_[3 * i] = g.x(); boundaryGradient_[3 * i + 1] = g.y(); boundaryGradient_[3 * i + 2] = g.z();
+      const Eigen::Vector3f lift =
+          boxWallLift(*wallWeights_, params_.container, h, Eigen::Vector3f(p.x[i], p.y[i], p.z[i]), params_.gravity) / rho0;
+      boundaryLift_[3 * i] = lift.x(); boundaryLift_[3 * i + 1] = lift.y(); boundaryLift_[3 * i + 2] = lift.z();
     }
   });
 }
