@@ -110,8 +110,8 @@ void describe(V& v, sim::ContainerParams& p) {
   v.enumeration("wall_density", p.wallDensity, kWallDensity,
                 {"", "'none' (the paper): walls only clamp positions, so particles near a wall miss kernel mass and "
                      "crowd against it; 'wall_weight': walls add the density and pressure of a virtual particle "
-                     "lattice behind them (Harada, Koshizuka & Kawaguchi 2007) and keep particle centres half a "
-                     "spacing inside; 'boundary_particles': the walls are sampled by static particles continuing "
+                     "lattice behind them (Harada, Koshizuka & Kawaguchi 2007), tabulated with the fluid's kernels, "
+                     "and keep particle centres half a spacing inside, for both solvers; 'boundary_particles': the walls are sampled by static particles continuing "
                      "the fluid's lattice that count in every density sum and push back with each particle's own "
                      "pressure (Akinci et al. 2012), for both solvers"});
 }
