@@ -10,29 +10,34 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-11.2632 0.000344301 "wcsph c20"
-21.2764 8.65284e-05 "wcsph c40"
-39.8729 2.07458e-05 "wcsph c80"
-75.8185 4.72218e-06 "wcsph c160"
+8.53586 0.000344301 "wcsph c20"
+16.0654 8.65284e-05 "wcsph c40"
+31.0055 2.07458e-05 "wcsph c80"
+56.4368 4.72218e-06 "wcsph c160"
 EOD
 $series1 << EOD
-25.554 8.99286e-05 "wcsph c40 bp"
-48.9912 2.24717e-05 "wcsph c80 bp"
+8.88033 0.000358631 "wcsph c20 bp"
+17.34 8.99286e-05 "wcsph c40 bp"
+33.4119 2.24717e-05 "wcsph c80 bp"
 EOD
 $series2 << EOD
-2.71939 0.000688618 "dfsph 1%"
-2.71591 0.000674264 "dfsph 0.3%"
-2.8925 0.000516611 "dfsph 0.1%"
-3.33804 0.000380714 "dfsph 0.03%"
+1.95362 0.000688618 "dfsph 1%"
+1.93741 0.000674264 "dfsph 0.3%"
+1.99071 0.000516611 "dfsph 0.1%"
+2.41817 0.000380714 "dfsph 0.03%"
 EOD
 $series3 << EOD
-2.63268 0.000571295 "1%"
-2.8518 0.000482223 "0.1%"
-3.30151 0.000375419 "0.03%"
+1.55329 0.00078852 "dfsph 1% ww"
+1.59477 0.000626974 "dfsph 0.1% ww"
 EOD
 $series4 << EOD
-2.63268 0.001 ""
-75.8185 0.001 ""
+1.90115 0.000571295 "1%"
+2.01921 0.000482223 "0.1%"
+2.39173 0.000375419 "0.03%"
+EOD
+$series5 << EOD
+1.55329 0.001 ""
+56.4368 0.001 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"
@@ -42,9 +47,11 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "wc
      $series1 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series2 using 1:2 with linespoints lc 3 lw 2 pt 7 ps 1 axes x1y1 title "dfsph (jacobi)" noenhanced, \
      $series2 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series3 using 1:2 with linespoints lc 4 lw 2 pt 7 ps 1 axes x1y1 title "dfsph cg" noenhanced, \
+     $series3 using 1:2 with linespoints lc 4 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, wall weights" noenhanced, \
      $series3 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series4 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.001" noenhanced
+     $series4 using 1:2 with linespoints lc 5 lw 2 pt 7 ps 1 axes x1y1 title "dfsph cg" noenhanced, \
+     $series4 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series5 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.001" noenhanced
 set terminal svg size 900,560 font "sans,11"
 set output "study.svg"
 replot
