@@ -69,8 +69,8 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass,
               const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
               if (r >= h_) continue;
               rho += W(r);
-              grad += -dW(r) * dz / r;
-              liftN += dW(r) / r * dz * dz;                    // (header: lift)
+              grad += -dW(r) * dz / r;  // -dW/dr r_hat . n, r_hat . n = dz / r
+              liftN += dW(r) / r * dz * dz;  // A(d), B(d): boundary.h, liftNormal
               liftT += dW(r) / r * 0.5 * (dx * dx + dy * dy);  // -dW/dr r_hat . n, r_hat . n = dz / r
             }
     const double norm = double(lateral) * lateral;

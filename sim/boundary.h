@@ -9,10 +9,13 @@
 // "Improvement of the boundary conditions in smoothed particle hydrodynamics", Computer Graphics
 // & Geometry 9(3), 2007: behind each wall lies a virtual cubic lattice of particles continuing
 // the fluid's initial lattice (first layer half a spacing behind the plane). Its density
-// contribution Z(d) and the normal component of its summed spiky gradient G(d) depend only on
+// contribution Z(d) and the normal component of its summed kernel gradient G(d) depend only on
 // the distance d of a particle from the plane (averaged over lateral offsets) and are tabulated
-// once. The virtual particles carry the fluid's rest density and, mirror-like, the pressure of
-// the particle they act on.
+// once, with the fluid's own kernels (poly6 and spiky, or the cubic spline for both). The virtual
+// particles carry the fluid's rest density and, mirror-like, the pressure of the particle they
+// act on. Under DFSPH the tables also give the solver its wall terms, the sums boundary particles
+// give (boundary_particles.h): sum_b V_b grad W_ib = -G(d) n / rho0 and the hydrostatic term
+// (liftNormal below; Simulation::computeWallWeightGradient).
 #pragma once
 
 #include "sim/kernels.h"
@@ -36,10 +39,11 @@ public:
   // cubic spline for both), so that the walls continue the sums the fluid makes.
   WallWeights(float spacing, float supportRadius, float particleMass, DensityKernel kernel = DensityKernel::Poly6);
 
-  // Sum over the virtual wall lattice of m W_poly6, for a particle at distance d in front of the
+  // Sum over the virtual wall lattice of m W (the density kernel), for a particle at distance d in front of the
   // wall (d >= h gives 0; d < 0 is treated as 0).
   float density(float d) const { return lookup(density_, d); }
-  // Normal component (pointing from the wall into the fluid) of -sum m grad W_spiky(r_i - r_j):
+  // Normal component (pointing from the wall into the fluid) of -sum m grad W(r_i - r_j) (the
+  // gradient kernel: spiky, or the cubic spline):
   // positive, so that pressure pushes the particle away from the wall.
   float gradient(float d) const { return lookup(gradient_, d); }
 
@@ -110,9 +114,10 @@ inline WallContribution boxWallContribution(const WallWeights& weights, const Co
   return c;
 }
 
-// The walls' hydrostatic term (WallWeights::liftNormal) summed over the walls within reach, per
-// unit mass of the virtual particles (the edges' double count is not removed: a small overcount
-// within h of an edge).
+// The walls' hydrostatic term (WallWeights::liftNormal) summed over the walls within reach,
+// weighted by the virtual particles' mass m as the tables are (divide by rho0 for the volumes
+// V_b = m / rho0 boundary particles carry); the edges' double count is not removed: a small
+// overcount within h of an edge.
 inline Eigen::Vector3f boxWallLift(const WallWeights& weights, const ContainerParams& box, float h,
                                    const Eigen::Vector3f& x, const Eigen::Vector3f& g) {
   Eigen::Vector3f lift = Eigen::Vector3f::Zero();

@@ -19,7 +19,7 @@ namespace kurage::sim {
 std::string_view stageName(Stage stage) {
   switch (stage) {
     case Stage::Sort: return "neighbour_sort";
-    case Stage::Boundary: return "boundary_particles";
+    case Stage::Boundary: return "wall_sums";
     case Stage::DensitySolve: return "density_solve";
     case Stage::Density: return "density";
     case Stage::TelescopicDensity: return "telescopic_density";
@@ -254,7 +254,13 @@ void Simulation::computeWallWeightGradient() {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       // The table's G(d) n is -sum_b m grad W_ib over the virtual wall lattice: sum_b V_b grad W_ib
       // with V_b = m / rho0, as boundary particles give it.
-      const Eigen::Vector3f g = -boxWallContribution(*wallWeights_, params_.container, h, p.x[i], p.y[i], p.z[i]).gradient / rho0;
+      // With density_sum "mass" the density pass adds the tables' Z(d), the fluid's rho0 times
+      // sum_b V_b W, whatever the particle's own rest density; DFSPH weighs this term with rho0_i
+      // (DfsphSolver::wallWeight), so it is scaled by rho0 / rho0_i to stay the density's rate
+      // (1 for fluid particles).
+      const float form = params_.fluid.densitySum == DensitySum::Mass ? rho0 / p.restDensity[i] : 1.0f;
+      const Eigen::Vector3f g =
+          -boxWallContribution(*wallWeights_, params_.container, h, p.x[i], p.y[i], p.z[i]).gradient * (form / rho0);
       boundaryGradient_[3 * i] = g.x(); boundaryGradient_[3 * i + 1] = g.y(); boundaryGradient_[3 * i + 2] = g.z();
       const Eigen::Vector3f lift =
           boxWallLift(*wallWeights_, params_.container, h, Eigen::Vector3f(p.x[i], p.y[i], p.z[i]), params_.gravity) / rho0;

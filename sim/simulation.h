@@ -1,8 +1,8 @@
 // One simulation: particles, neighbour grid and parameters, advanced in the paper's step order
 // (SPEC §4). Owns all of its state; several simulations can live in one process.
 //
-// Step (written once, in step() and advanceTo()): 1-2 sort into buckets, the walls' boundary
-// particle sums (container.wall_density "boundary_particles"), 4-5 rest density of telescopic
+// Step (written once, in step() and advanceTo()): 1-2 sort into buckets, the walls' sums for the
+// solver (boundary particles; under DFSPH also the wall weights' tables), 4-5 rest density of telescopic
 // bodies, 3 density, 6 pressure (the pressure solver's afterDensity: WCSPH's equation of state,
 // or DFSPH's factors and divergence solve), 7-8 pressure (WCSPH) and viscosity forces, 9 springs
 // (and muscles), 10 gravity, 11 acceleration, 12 v += a dt, the solver's velocity correction
@@ -109,7 +109,7 @@ public:
 private:
   void sortParticles();
   void computeBoundaryTerms();
-  // DFSPH with wall weights: boundaryGradient_ from the walls' tables (sum_b V_b grad W_ib).
+  // DFSPH with wall weights: boundaryGradient_ and boundaryLift_ from the walls' tables.
   void computeWallWeightGradient();
   void measureDensityError();
   void computeAccelerations();
@@ -131,8 +131,9 @@ private:
   std::unique_ptr<PressureSolver> solver_;
   std::unique_ptr<BoundaryParticles> boundary_;
   std::vector<float> boundaryVolume_;    // per particle: sum_b V_b W_ib (density kernel)
-  std::vector<float> boundaryGradient_;  // (also DFSPH's with wall weights: computeWallWeightGradient)  // per particle, 3 floats: sum_b V_b grad W_ib (solver's gradient)
+  std::vector<float> boundaryGradient_;  // per particle, 3 floats: sum_b V_b grad W_ib (solver's gradient)
   std::vector<float> boundaryLift_;      // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
+  // (both also DFSPH's from the wall weights: computeWallWeightGradient)
   float lastStep_ = 0.0f;
   std::vector<double> errorPartial_;     // per chunk sums of measureDensityError()
   std::unique_ptr<WallWeights> wallWeights_;

@@ -112,6 +112,7 @@ TEST(DamBreak, CubicSplineWithWallWeightsMatchesMartinMoyceWithin10Percent) {
   const Measured m = runDamBreak(WallSlip::FreeSlip, "wcsph", WallDensity::WallWeight, SphKernel::CubicSpline);
   std::printf("wcsph, cubic spline, wall weights: surge front %.1f %%, column height %.1f %% mean relative error\n",
               100 * m.frontError, 100 * m.heightError);
+  EXPECT_EQ(m.frontPoints, 15);
   EXPECT_EQ(m.heightPoints, 17);
   EXPECT_LT(m.frontError, 0.10);
   EXPECT_LT(m.heightError, 0.10);
@@ -127,6 +128,7 @@ TEST(DamBreak, DfsphWithWallWeightsMatchesMartinMoyceAsBoundaryParticlesDo) {
   const Measured m = runDamBreak(WallSlip::FreeSlip, "dfsph", WallDensity::WallWeight);
   std::printf("dfsph, wall weights: surge front %.1f %%, column height %.1f %% mean relative error\n",
               100 * m.frontError, 100 * m.heightError);
+  EXPECT_EQ(m.frontPoints, 15);
   EXPECT_EQ(m.heightPoints, 17);
   EXPECT_LT(m.frontError, 0.08);
   EXPECT_LT(m.heightError, 0.14);

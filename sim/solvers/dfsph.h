@@ -11,7 +11,7 @@
 // potential energy, so the system the solves iterate on is symmetric when rest densities differ):
 //   dv_i = -(dt / rho0_i) [ sum_j V_j (P_i + P_j) grad W_ij + 2 P_i gB_i ]
 // For one rest density the two are the same equation. gB_i = sum_b V_b grad W_ib over the wall's
-// boundary particles, which carry the particle's own pressure (Akinci 2012, mirrored: k_b = k_i,
+// boundary particles (or its lateral average from the wall weights' tables), which carry the particle's own pressure (Akinci 2012, mirrored: k_b = k_i,
 // hence the 2). With a factor 1 instead, the symmetric sum leaves a particle on a flat wall with
 // no push of its own away from it: the fluid-only part of sum_j m_j k_i grad W_ij cancels the
 // wall's term, and the neighbours above press it into the wall (measured: the floor layer sank

@@ -31,7 +31,8 @@
 namespace kurage::sim {
 
 // What a solver sees of the step: the sorted particles, their neighbours (found by the density
-// pass, |r_ij| < h) and the walls' boundary-particle sums (null when the walls have none).
+// pass, |r_ij| < h) and the walls' sums: from boundary particles, or, for an incompressible
+// solver, from the wall weights' tables (null when the walls have neither).
 struct SolverContext {
   ParticleSet& particles;
   const NeighborLists& neighbors;
