@@ -68,10 +68,11 @@ WallWeights::WallWeights(float spacing, float supportRadius, float particleMass,
               const double dz = d + (k + 0.5) * spacing;  // normal separation
               const double r = std::sqrt(dx * dx + dy * dy + dz * dz);
               if (r >= h_) continue;
+              const double dw = dW(r);
               rho += W(r);
-              grad += -dW(r) * dz / r;  // -dW/dr r_hat . n, r_hat . n = dz / r
-              liftN += dW(r) / r * dz * dz;  // A(d), B(d): boundary.h, liftNormal
-              liftT += dW(r) / r * 0.5 * (dx * dx + dy * dy);  // -dW/dr r_hat . n, r_hat . n = dz / r
+              grad += -dw * dz / r;  // -dW/dr r_hat . n, r_hat . n = dz / r
+              liftN += dw / r * dz * dz;  // A(d), B(d): boundary.h, liftNormal
+              liftT += dw / r * 0.5 * (dx * dx + dy * dy);
             }
     const double norm = double(lateral) * lateral;
     density_[size_t(s)] = float(particleMass * rho / norm);

@@ -187,7 +187,7 @@ SolverContext Simulation::solverContext() {
     c.boundaryVolume = boundaryVolume_.data();
     c.boundaryGradient = boundaryGradient_.data();
     c.boundaryLift = boundaryLift_.data();
-  } else if (wallWeights_ && !solver_->pressureInForces()) {
+  } else if (wallWeightTerms()) {
     c.boundaryGradient = boundaryGradient_.data();  // the wall weights' (computeWallWeightGradient)
     c.boundaryLift = boundaryLift_.data();
   }
@@ -285,7 +285,7 @@ void Simulation::computeAccelerations() {
     bodies_->updateRestDensity(particles_);
   }
   const float* boundaryVolume = nullptr;
-  if (wallWeights_ && !solver_->pressureInForces()) computeWallWeightGradient();
+  if (wallWeightTerms()) computeWallWeightGradient();
   if (boundary_) {
     computeBoundaryTerms();
     boundaryVolume = boundaryVolume_.data();

@@ -111,6 +111,7 @@ private:
   void computeBoundaryTerms();
   // DFSPH with wall weights: boundaryGradient_ and boundaryLift_ from the walls' tables.
   void computeWallWeightGradient();
+  bool wallWeightTerms() const { return wallWeights_ && !solver_->pressureInForces(); }
   void measureDensityError();
   void computeAccelerations();
   SolverContext solverContext();

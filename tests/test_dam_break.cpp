@@ -122,7 +122,7 @@ TEST(DamBreak, CubicSplineWithWallWeightsMatchesMartinMoyceWithin10Percent) {
 // and the walls' hydrostatic term (Simulation::computeWallWeightGradient, WallWeights::liftNormal),
 // as boundary particles do. Without the gradient the walls counted in every density but the solves
 // could not push away from them: in this slice, every particle within two spacings of a side wall,
-// the run stopped at t = 0.43 s (a step below the floor). Measured: 4.8 / 11.5 % (boundary
+// the run stopped at t = 0.43 s (a step below the floor). Measured: 4.8 / 11.6 % (boundary
 // particles 4.6 / 9.9 %; without the hydrostatic term 8.7 / 6.0 %, docs/PHYSICS.md).
 TEST(DamBreak, DfsphWithWallWeightsMatchesMartinMoyceAsBoundaryParticlesDo) {
   const Measured m = runDamBreak(WallSlip::FreeSlip, "dfsph", WallDensity::WallWeight);
