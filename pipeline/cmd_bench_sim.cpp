@@ -7,7 +7,8 @@
 // step by stage and particle-steps per second. `--solver dfsph` (or `all`) adds rows for DFSPH
 // at the scene default tolerance (0.1 % mean density error) with boundary-particle walls, h = 2 l
 // only (its cubic spline kernel needs the larger support), with its mean iterations per step;
-// `dfsph-cg` (in `all` too) the same with the divergence solve by conjugate gradients. Every row
+// `dfsph-cg` (in `all` too) the same with the divergence solve by conjugate gradients, `dfsph-gc`
+// (not in `all`) with fluid.gradient_correction (Bonet & Lok's corrected kernel gradient). Every row
 // also reports simulated seconds per wall second and the measured mean compression.
 #include "pipeline/cli.h"
 #include "sim/simulation.h"
@@ -35,8 +36,9 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   p.container.min = Eigen::Vector3f(0, 0, 0);
   p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
-  p.fluid.solver = solver == "dfsph-cg" ? "dfsph" : solver;
+  p.fluid.solver = solver == "dfsph-cg" || solver == "dfsph-gc" ? "dfsph" : solver;
   if (solver == "dfsph-cg") p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
+  if (solver == "dfsph-gc") p.fluid.gradientCorrection = true;
   if (solver != "wcsph") {
     p.container.wallDensity = sim::WallDensity::BoundaryParticles;
     p.fluid.pressureForce = sim::PressureForce::Monaghan1992;
@@ -102,12 +104,13 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
 int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
-                "                        [--solver wcsph|dfsph|dfsph-cg|all] [--sound-speed-scale F] [--json]\n\n"
+                "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|all] [--sound-speed-scale F] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
                 "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
                 "0.1 %% mean density error): iterations per step and simulated seconds per wall second;\n"
-                "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients).\n"
+                "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients), dfsph-gc (not in\n"
+                "all) with fluid.gradient_correction (the corrected kernel gradient).\n"
                 "--sound-speed-scale F: WCSPH's speed of sound F times the default 10 sqrt(2 g H) (its\n"
                 "compression falls as 1/F^2, its step as 1/F; with --warmup 600 the density%% column shows it).\n");
     return 0;
@@ -124,8 +127,9 @@ int benchSim(ArgParser& args) {
   if (!(soundScale >= 0.1 && soundScale <= 100.0)) args.fail("--sound-speed-scale must be in [0.1, 100]");
   std::vector<std::string> solvers;
   if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
-  else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg") solvers = {solverChoice};
-  else args.fail("--solver must be wcsph, dfsph, dfsph-cg or all");
+  else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg" || solverChoice == "dfsph-gc")
+    solvers = {solverChoice};
+  else args.fail("--solver must be wcsph, dfsph, dfsph-cg, dfsph-gc or all");
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},

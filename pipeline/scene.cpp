@@ -111,6 +111,9 @@ void validate(const Scene& scene, const std::string& file) {
   }
   if (sim.fluid.solver == "dfsph" && sim.fluid.kernel == sim::SphKernel::Mueller2003)
     fail("fluid.kernel", "dfsph's solves use the cubic spline: 'cubic_spline' or 'auto', got \"mueller2003\"");
+  if (sim.fluid.gradientCorrection && sim.fluid.solver == "wcsph" && sim.fluid.pressureForce == sim::PressureForce::Mueller2003)
+    fail("fluid.gradient_correction", "corrects Monaghan's pressure force (fluid.pressure_force \"monaghan1992\") or "
+                                      "dfsph's solves; the paper's force \"mueller2003\" has no corrected form");
   if ((box.max - box.min).minCoeff() < h) {
     std::ostringstream s;
     s << "the container is smaller than the support radius h = " << h << " m on some axis (size "

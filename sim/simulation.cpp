@@ -191,6 +191,7 @@ SolverContext Simulation::solverContext() {
     c.boundaryGradient = boundaryGradient_.data();  // the wall weights' (computeWallWeightGradient)
     c.boundaryLift = boundaryLift_.data();
   }
+  if (solverCorrectsGradient()) c.gradientCorrection = correction_.data();
   c.lastStep = lastStep_;
   c.gravity = params_.gravity;
   return c;
@@ -300,6 +301,8 @@ void Simulation::computeAccelerations() {
   measureDensityError();
   {
     StageTimer timer(stats_, Stage::Pressure);
+    if (solverCorrectsGradient())
+      computeGradientCorrection(neighbors_, particles_, GradientKernel{&spiky_, &cubic_}, params_.container, correction_);
     solver_->afterDensity(solverContext());  // (4), or DFSPH's factors and divergence solve
   }
   {
@@ -474,7 +477,7 @@ size_t Simulation::memoryBytes() const {
     return b + p.id.capacity() * sizeof(int64_t) + p.kind.capacity() * sizeof(int32_t);
   };
   return setBytes(particles_) + setBytes(scratch_) + grid_.memoryBytes() + neighbors_.memoryBytes() +
-         boundaryLift_.capacity() * sizeof(float) +
+         (boundaryLift_.capacity() + correction_.capacity()) * sizeof(float) +
          order_.capacity() * sizeof(uint32_t) + (bodies_ ? bodies_->memoryBytes() : 0) + solver_->memoryBytes() +
          (boundaryVolume_.capacity() + boundaryGradient_.capacity()) * sizeof(float) +
          (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0);

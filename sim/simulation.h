@@ -112,6 +112,9 @@ private:
   // DFSPH with wall weights: boundaryGradient_ and boundaryLift_ from the walls' tables.
   void computeWallWeightGradient();
   bool wallWeightTerms() const { return wallWeights_ && !solver_->pressureInForces(); }
+  // fluid.gradient_correction under a solver that pushes in its own solves (DFSPH): its L_i in
+  // correction_, computed before the solver's first pass and handed to it in the context.
+  bool solverCorrectsGradient() const { return params_.fluid.gradientCorrection && !solver_->pressureInForces(); }
   void measureDensityError();
   void computeAccelerations();
   SolverContext solverContext();

@@ -50,6 +50,8 @@ const BadScene kBadScenes[] = {
        s["fluid"]["solver"] = "dfsph";
        s["fluid"]["kernel"] = "mueller2003";
      }, "fluid.kernel", "dfsph's solves use the cubic spline"},
+    {"GradientCorrectionOfThePapersForce", [](json& s) { s["fluid"]["gradient_correction"] = true; },
+     "fluid.gradient_correction", "the paper's force \"mueller2003\" has no corrected form"},
     {"UnknownKernel", [](json& s) { s["fluid"]["kernel"] = "wendland"; }, "fluid.kernel",
      "must be one of \"auto\", \"mueller2003\", \"cubic_spline\", got \"wendland\""},
     {"BoundaryParticlesThinContainer", [](json& s) {

@@ -92,6 +92,16 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     position_[i] = Float4{p.x[i], p.y[i], p.z[i], w};
   });
   loadVelocities(p);
+  corrected_ = c.gradientCorrection != nullptr;
+  if (corrected_) {
+    correction_.resize(3 * n);
+    tbb::parallel_for(size_t(0), n, [&](size_t i) {
+      const float* L = c.gradientCorrection + 6 * i;  // L00 L11 L22 L01 L02 L12 (fluid.h)
+      correction_[3 * i] = Float4{L[0], L[3], L[4], 0.0f};
+      correction_[3 * i + 1] = Float4{L[3], L[1], L[5], 0.0f};
+      correction_[3 * i + 2] = Float4{L[4], L[5], L[2], 0.0f};
+    });
+  }
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
     const std::vector<float>& g = c.neighbors.slopes(ch);  // W'(r)/r, from the density pass
     assert(g.size() == c.neighbors.chunkSize(ch));
@@ -103,14 +113,32 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       Eigen::Vector3f F = kMirror * gb;  // mirrored wall: see the header
       float S = 0.0f;
       const float* slope = g.data() + c.neighbors.offset(i);
-      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
-        const uint32_t j = *it;
-        const float dx = xi - p.x[j], dy = yi - p.y[j], dz = zi - p.z[j];
-        const float s = *slope;
-        const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
-        const float w = position_[j][3];  // m_j, or V_j
-        F += w * grad;
-        S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * grad.squaredNorm();
+      if (!corrected_) {
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
+          const uint32_t j = *it;
+          const float dx = xi - p.x[j], dy = yi - p.y[j], dz = zi - p.z[j];
+          const float s = *slope;
+          const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
+          const float w = position_[j][3];  // m_j, or V_j
+          F += w * grad;
+          S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * grad.squaredNorm();
+        }
+      } else {
+        // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
+        // plain one (L_i = I within h of a wall).
+        Eigen::Matrix3f L;
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) L(a, b) = correction_[3 * i + size_t(a)][b];
+        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
+          const uint32_t j = *it;
+          const float s = *slope;
+          const Eigen::Vector3f grad = L * Eigen::Vector3f(s * (xi - p.x[j]), s * (yi - p.y[j]), s * (zi - p.z[j]));
+          const float w = position_[j][3];
+          sum += w * grad;
+          S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * grad.squaredNorm();
+        }
+        F += sum;
       }
       const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
       const float ref = position_[i][3] * dRef;
@@ -253,12 +281,26 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
       const float* s = s0 + c.neighbors.offset(i);
       // Summed per axis in one register, the three axes added once at the end (a horizontal sum
       // per pair cost about 10 % of a step).
-      Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
-      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++s) {
-        const Float4 xj = x[*it];
-        sum += xj[3] * ((vi - v[*it]) * (*s * (xi - xj)));  // w_j (v_i - v_j) * grad W_ij, per axis
+      float rate;
+      if (!corrected_) {
+        Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++s) {
+          const Float4 xj = x[*it];
+          sum += xj[3] * ((vi - v[*it]) * (*s * (xi - xj)));  // w_j (v_i - v_j) * grad W_ij, per axis
+        }
+        rate = sum[0] + sum[1] + sum[2];
+      } else {
+        // sum_j w_j (v_i - v_j) . L_i grad W_ij = sum_a L_i,a . T_a, T_a = sum_j w_j (v_i - v_j)_a grad W_ij
+        Float4 t0 = {0.0f, 0.0f, 0.0f, 0.0f}, t1 = t0, t2 = t0;
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++s) {
+          const Float4 xj = x[*it];
+          const Float4 dv = vi - v[*it];
+          const Float4 e = (xj[3] * *s) * (xi - xj);
+          t0 += dv[0] * e; t1 += dv[1] * e; t2 += dv[2] * e;
+        }
+        const Float4 r = correction_[3 * i] * t0 + correction_[3 * i + 1] * t1 + correction_[3 * i + 2] * t2;
+        rate = r[0] + r[1] + r[2];
       }
-      float rate = sum[0] + sum[1] + sum[2];
       if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
@@ -281,10 +323,24 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       const Float4 xi = x[i];
       const float* sp = s0 + c.neighbors.offset(i);
       Float4 a = {0.0f, 0.0f, 0.0f, 0.0f};
-      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
-        const uint32_t j = *it;
-        const Float4 xj = x[j];
-        a += (*sp * (xj[3] * (ki + k[j]))) * (xi - xj);  // w_j (k_i + k_j) grad W_ij, the scalars first
+      if (!corrected_) {
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
+          const uint32_t j = *it;
+          const Float4 xj = x[j];
+          a += (*sp * (xj[3] * (ki + k[j]))) * (xi - xj);  // w_j (k_i + k_j) grad W_ij, the scalars first
+        }
+      } else {
+        // w_j (k_i L_i + k_j L_j) grad W_ij: the transpose of the corrected density rate (header)
+        Float4 own = {0.0f, 0.0f, 0.0f, 0.0f};
+        const Float4* L = correction_.data();
+        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
+          const uint32_t j = *it;
+          const Float4 xj = x[j];
+          const Float4 d = (*sp * xj[3]) * (xi - xj);
+          own += d;
+          a += k[j] * (L[3 * j] * d[0] + L[3 * j + 1] * d[1] + L[3 * j + 2] * d[2]);
+        }
+        a += ki * (L[3 * i] * own[0] + L[3 * i + 1] * own[1] + L[3 * i + 2] * own[2]);
       }
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
@@ -399,7 +455,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity();
-  b += scratch_.capacity() * sizeof(Float4);
+  b += (scratch_.capacity() + correction_.capacity()) * sizeof(Float4);
   return b;
 }
 

@@ -179,6 +179,8 @@ private:
   SolverStats stats_;
   std::vector<float> residual_, direction_, weight_;  // divergenceCg: r, d and c_i (0 off the unknowns)
   std::vector<Float4> scratch_;                       // divergenceCg: -P d
+  bool corrected_ = false;                            // fluid.gradient_correction: the kernel gradient L_i grad W_ij
+  std::vector<Float4> correction_;                    // its L_i, three rows per particle (fourth lanes 0)
 };
 
 }  // namespace kurage::sim

@@ -41,6 +41,7 @@ struct SolverContext {
   const float* boundaryVolume = nullptr;      // per particle: sum_b V_b W_ib (density kernel)
   const float* boundaryGradient = nullptr;    // per particle, 3 floats: sum_b V_b grad W_ib
   const float* boundaryLift = nullptr;        // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
+  const float* gradientCorrection = nullptr;  // per particle, 6 floats: L_i (fluid.h), or null
   float lastStep = 0.0f;                      // the previous step, s (0 before the first)
   Eigen::Vector3f gravity{0.0f, 0.0f, 0.0f};  // g, m/s^2
 };
