@@ -97,7 +97,7 @@ void describe(V& v, sim::FluidParams& p) {
   v.value("gradient_correction", p.gradientCorrection,
           {"", "correct each particle's kernel gradient (Bonet & Lok 1999) so that a linear pressure field's "
                "gradient is exact on a disordered neighbourhood: WCSPH's force with 'monaghan1992', or DFSPH's "
-               "push and density rate (about 1.6 times the cost of a DFSPH step); particles within h of a wall "
+               "push and density rate (about 1.4 times the cost of a DFSPH step); particles within h of a wall "
                "or at a free surface keep the plain gradient"});
 }
 

@@ -126,19 +126,19 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       } else {
         // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
         // plain one (L_i = I within h of a wall).
-        Eigen::Matrix3f L;
-        for (int a = 0; a < 3; ++a)
-          for (int b = 0; b < 3; ++b) L(a, b) = correction_[3 * i + size_t(a)][b];
-        Eigen::Vector3f sum = Eigen::Vector3f::Zero();
+        const Float4 L0 = correction_[3 * i], L1 = correction_[3 * i + 1], L2 = correction_[3 * i + 2];
+        const Float4 x4 = position_[i];
+        Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
         for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
           const uint32_t j = *it;
-          const float s = *slope;
-          const Eigen::Vector3f grad = L * Eigen::Vector3f(s * (xi - p.x[j]), s * (yi - p.y[j]), s * (zi - p.z[j]));
+          const Float4 d = *slope * (x4 - position_[j]);
+          const Float4 grad = L0 * d[0] + L1 * d[1] + L2 * d[2];  // L_i grad W_ij (fourth lane 0)
           const float w = position_[j][3];
           sum += w * grad;
-          S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * grad.squaredNorm();
+          const Float4 g2 = grad * grad;
+          S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * (g2[0] + g2[1] + g2[2]);
         }
-        F += sum;
+        F += Eigen::Vector3f(sum[0], sum[1], sum[2]);
       }
       const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
       const float ref = position_[i][3] * dRef;
