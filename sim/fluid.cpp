@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <type_traits>
 #include <cmath>
 
@@ -302,7 +303,8 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
       if (((p - box.min).array() < h).any() || ((box.max - p).array() < h).any()) continue;
       Eigen::Matrix3f M = Eigen::Matrix3f::Zero();
       if (kernel.cubic) {
-        // -W'(r)/r from the density pass (NeighborLists::slopes; 0 for coincident particles)
+        // W'(r)/r as the density pass stored it (NeighborLists::slopes; 0 for coincident particles)
+        assert(neighbors.slopes(i / NeighborLists::kChunk).size() == neighbors.chunkSize(i / NeighborLists::kChunk));
         const float* slope = neighbors.slopes(i / NeighborLists::kChunk).data() + neighbors.offset(i);
         for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it, ++slope) {
           const uint32_t j = *it;

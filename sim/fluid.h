@@ -71,7 +71,8 @@ void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& parti
 // yz per particle): L_i = M_i^-1 with M_i = sum_j V_j (-dW/dr / r) d d^T, d = r_i - r_j,
 // V_j = m_j / rho_j, W the pressure gradient's kernel. The identity for particles within h of a
 // container wall or whose M_i is far from the identity (det < 0.25: a free surface or a sparse
-// neighbourhood).
+// neighbourhood). With kernel.cubic it reads W'(r)/r from `neighbors`' slopes, so this step's
+// density pass must have been the cubic spline's (it fills them).
 void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet& particles, GradientKernel kernel,
                                const ContainerParams& box, std::vector<float>& correction);
 

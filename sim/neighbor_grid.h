@@ -75,7 +75,8 @@ public:
   size_t chunkSize(size_t c) const { return chunks_[c].size(); }
   // Per neighbour entry, alongside chunk c's buffer: W'(r_ij) / r_ij of the cubic spline, filled
   // by the cubic density pass (which has r_ij at hand) for the gradients of the solvers that use
-  // that kernel (DFSPH's, WCSPH's pressure force with fluid.kernel "cubic_spline"); empty otherwise.
+  // that kernel (DFSPH's, WCSPH's pressure force with fluid.kernel "cubic_spline") and for the
+  // gradient correction's matrices (computeGradientCorrection); empty otherwise.
   std::vector<float>& slopes(size_t c) { return slopes_[c]; }
   const std::vector<float>& slopes(size_t c) const { return slopes_[c]; }
   size_t totalCount() const;

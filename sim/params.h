@@ -79,10 +79,12 @@ struct FluidParams {
   float kinematicViscosity = 0.3f;  // nu, m^2/s
   NegativePressure negativePressure = NegativePressure::Clamp;
   PressureForce pressureForce = PressureForce::Mueller2003;
-  // Monaghan1992 only: correct each particle's kernel gradient with L_i = (sum_j V_j grad W_ij
-  // (x) (r_j - r_i))^-1 (Bonet & Lok 1999), symmetrised as (L_i + L_j) / 2, so that the gradient
-  // of a linear pressure field is exact on any neighbourhood. Particles within h of a wall or with
-  // a degenerate neighbourhood (free surface) keep the plain gradient.
+  // Correct each particle's kernel gradient with L_i = (sum_j V_j grad W_ij (x) (r_j - r_i))^-1
+  // (Bonet & Lok 1999), so that the gradient of a linear pressure field is exact on any
+  // neighbourhood: WCSPH's Monaghan1992 force, symmetrised as (L_i + L_j) / 2 (Mueller2003 has no
+  // corrected form: a scene error), or DFSPH's density rate and push (sim/solvers/dfsph.h).
+  // Particles within h of a wall or with a degenerate neighbourhood (free surface) keep the plain
+  // gradient.
   bool gradientCorrection = false;
   DensitySum densitySum = DensitySum::Mass;
   SphKernel kernel = SphKernel::Auto;  // resolved by resolvedKernel() before a simulation starts

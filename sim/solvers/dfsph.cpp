@@ -94,12 +94,12 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   loadVelocities(p);
   corrected_ = c.gradientCorrection != nullptr;
   if (corrected_) {
-    correction_.resize(3 * n);
+    correctionRows_.resize(3 * n);
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
       const float* L = c.gradientCorrection + 6 * i;  // L00 L11 L22 L01 L02 L12 (fluid.h)
-      correction_[3 * i] = Float4{L[0], L[3], L[4], 0.0f};
-      correction_[3 * i + 1] = Float4{L[3], L[1], L[5], 0.0f};
-      correction_[3 * i + 2] = Float4{L[4], L[5], L[2], 0.0f};
+      correctionRows_[3 * i] = Float4{L[0], L[3], L[4], 0.0f};
+      correctionRows_[3 * i + 1] = Float4{L[3], L[1], L[5], 0.0f};
+      correctionRows_[3 * i + 2] = Float4{L[4], L[5], L[2], 0.0f};
     });
   }
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
@@ -126,13 +126,12 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       } else {
         // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
         // plain one (L_i = I within h of a wall).
-        const Float4 L0 = correction_[3 * i], L1 = correction_[3 * i + 1], L2 = correction_[3 * i + 2];
         const Float4 x4 = position_[i];
         Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
         for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
           const uint32_t j = *it;
           const Float4 d = *slope * (x4 - position_[j]);
-          const Float4 grad = L0 * d[0] + L1 * d[1] + L2 * d[2];  // L_i grad W_ij (fourth lane 0)
+          const Float4 grad = corrected(i, d);  // L_i grad W_ij (fourth lane 0)
           const float w = position_[j][3];
           sum += w * grad;
           const Float4 g2 = grad * grad;
@@ -298,7 +297,7 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
           const Float4 e = (xj[3] * *s) * (xi - xj);
           t0 += dv[0] * e; t1 += dv[1] * e; t2 += dv[2] * e;
         }
-        const Float4 r = correction_[3 * i] * t0 + correction_[3 * i + 1] * t1 + correction_[3 * i + 2] * t2;
+        const Float4 r = correctionRows_[3 * i] * t0 + correctionRows_[3 * i + 1] * t1 + correctionRows_[3 * i + 2] * t2;  // rows . T_a
         rate = r[0] + r[1] + r[2];
       }
       if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
@@ -332,15 +331,14 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       } else {
         // w_j (k_i L_i + k_j L_j) grad W_ij: the transpose of the corrected density rate (header)
         Float4 own = {0.0f, 0.0f, 0.0f, 0.0f};
-        const Float4* L = correction_.data();
         for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
           const uint32_t j = *it;
           const Float4 xj = x[j];
           const Float4 d = (*sp * xj[3]) * (xi - xj);
           own += d;
-          a += k[j] * (L[3 * j] * d[0] + L[3 * j + 1] * d[1] + L[3 * j + 2] * d[2]);
+          a += k[j] * corrected(j, d);
         }
-        a += ki * (L[3 * i] * own[0] + L[3 * i + 1] * own[1] + L[3 * i + 2] * own[2]);
+        a += ki * corrected(i, own);
       }
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
@@ -455,7 +453,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity();
-  b += (scratch_.capacity() + correction_.capacity()) * sizeof(Float4);
+  b += (scratch_.capacity() + correctionRows_.capacity()) * sizeof(Float4);
   return b;
 }
 

@@ -31,6 +31,15 @@
 //   D_i = |F_i|^2 + m_i sum_j c_j |grad W_ij|^2,  F_i = sum_j w_j grad W_ij + 2 c gB_i,
 // c_j = w_j, c = rho0_i ("mass"), or c_j = V_j / rho0_j, c = 1 ("volume").
 //
+// With fluid.gradient_correction (ours; Bonet & Lok 1999's L_i, computeGradientCorrection in
+// fluid.h, handed over in the context) the rate uses the corrected gradient L_i grad W_ij and the
+// push is its transpose, so the solves stay symmetric:
+//   Drho_i/Dt = s_i sum_j w_j (v_i - v_j) . L_i grad W_ij + (the wall's term)
+//   dv_i = -dt [ sum_j w_j (k_i L_i + k_j L_j) grad W_ij + (the wall's term) ]  (/ rho0_i for "volume")
+//   D_i = |L_i sum_j w_j grad W_ij + 2 c gB_i|^2 + m_i sum_j c_j |L_i grad W_ij|^2.
+// The walls' terms keep the plain gradient (L_i = I within h of a wall). (WCSPH's force pairs
+// the two as (L_i + L_j) / 2, which is not the transpose of a corrected rate.)
+//
 // Walls wetted by the fluid (ours): a body resting on a wall has no fluid under it, so the mirrored
 // wall alone gives it no buoyancy there, and box.json's box, released on the floor, stayed on it
 // (a real box lifts as water seeps under it; a 1 m particle cannot). Under a body particle the
@@ -146,7 +155,8 @@ private:
   void wetWalls(const SolverContext& c, float dt);
   // Drho_i/Dt of the velocities v, per particle, into rate_.
   void densityRate(const SolverContext& c, const Float4* v);
-  // v -= scale [sum_j m_j (k_i + k_j) grad W_ij + rho0_i k_i gB_i] for the per-particle k.
+  // v -= scale [sum_j m_j (k_i + k_j) grad W_ij + rho0_i k_i gB_i] for the per-particle k
+  // (k_i L_i + k_j L_j with the gradient correction; header).
   void applyPressure(const SolverContext& c, const float* k, float scale, Float4* v);
   // The divergence solve by conjugate gradients (header), from the warm-started velocity_; adds
   // the unknowns to qSum_; returns the iterations and sets `error`.
@@ -180,7 +190,11 @@ private:
   std::vector<float> residual_, direction_, weight_;  // divergenceCg: r, d and c_i (0 off the unknowns)
   std::vector<Float4> scratch_;                       // divergenceCg: -P d
   bool corrected_ = false;                            // fluid.gradient_correction: the kernel gradient L_i grad W_ij
-  std::vector<Float4> correction_;                    // its L_i, three rows per particle (fourth lanes 0)
+  std::vector<Float4> correctionRows_;                // its L_i, three rows per particle (fourth lanes 0)
+  // L_i d for particle i's rows (L is symmetric: its rows are its columns).
+  Float4 corrected(size_t i, Float4 d) const {
+    return correctionRows_[3 * i] * d[0] + correctionRows_[3 * i + 1] * d[1] + correctionRows_[3 * i + 2] * d[2];
+  }
 };
 
 }  // namespace kurage::sim
