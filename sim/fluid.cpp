@@ -302,23 +302,24 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
       const Eigen::Vector3f p(x[i], y[i], z[i]);
       if (((p - box.min).array() < h).any() || ((box.max - p).array() < h).any()) continue;
       Eigen::Matrix3f M = Eigen::Matrix3f::Zero();
-      if (kernel.cubic) {
-        // W'(r)/r as the density pass stored it (NeighborLists::slopes; 0 for coincident particles)
-        assert(neighbors.slopes(i / NeighborLists::kChunk).size() == neighbors.chunkSize(i / NeighborLists::kChunk));
-        const float* slope = neighbors.slopes(i / NeighborLists::kChunk).data() + neighbors.offset(i);
-        for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it, ++slope) {
-          const uint32_t j = *it;
-          const Eigen::Vector3f d(x[i] - x[j], y[i] - y[j], z[i] - z[j]);
-          M += (m[j] / rho[j] * -*slope) * (d * d.transpose());
-        }
-      } else
-        for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it) {
-          const uint32_t j = *it;
-          const Eigen::Vector3f d(x[i] - x[j], y[i] - y[j], z[i] - z[j]);
+      // The cubic spline's W'(r)/r as the density pass stored it (NeighborLists::slopes; 0 for
+      // coincident particles); the spiky kernel's from r.
+      const size_t chunk = i / NeighborLists::kChunk;
+      assert(!kernel.cubic || neighbors.slopes(chunk).size() == neighbors.chunkSize(chunk));
+      const float* slope = kernel.cubic ? neighbors.slopes(chunk).data() + neighbors.offset(i) : nullptr;
+      for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it) {
+        const uint32_t j = *it;
+        const Eigen::Vector3f d(x[i] - x[j], y[i] - y[j], z[i] - z[j]);
+        float weight;  // V_j (-dW/dr / r)
+        if (slope) {
+          weight = m[j] / rho[j] * -*slope++;
+        } else {
           const float r = d.norm();
           if (r <= 1e-6f * h) continue;
-          M += (m[j] / rho[j] * -kernel.spiky->derivative(r) / r) * (d * d.transpose());
+          weight = m[j] / rho[j] * -kernel.spiky->derivative(r) / r;
         }
+        M += weight * (d * d.transpose());
+      }
       if (!(M.determinant() > 0.25f)) continue;
       const Eigen::Matrix3f L = M.inverse();
       out[0] = L(0, 0); out[1] = L(1, 1); out[2] = L(2, 2);
