@@ -342,33 +342,18 @@ TEST(Dfsph, ConjugateGradientDivergenceSolveNeedsFewerIterations) {
   EXPECT_LT(cgCorrected, 0.75 * jacobiCorrected);
 }
 
-// The solver reaches its tolerance on a dam break and reports its iterations; an unreachable
-// tolerance hits the cap, is counted, and the run stays finite and inside.
-TEST(Dfsph, ReachesItsToleranceAndCountsCapHits) {
-  for (const bool reachable : {true, false}) {
-    SimParams p = jellyfishTank("dfsph", 1.0f, InitialState::Lattice);
-    p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);
-    if (!reachable) {
-      p.fluid.maxDensityError = 1e-6f;
-      p.fluid.maxIterations = 3;
-    }
-    Simulation sim(p);
-    sim.advanceTo(2.0);
-    const SolverStats& s = sim.solver().stats();
-    EXPECT_GT(s.densityIterations, 0u);
-    if (reachable) {
-      EXPECT_EQ(s.densityCapHits, 0u);
-      EXPECT_LE(s.maxDensityError, 0.001 + 1e-9);
-    } else {
-      EXPECT_GE(s.densityCapHits + 1, s.steps) << "every step at the cap (but the first, from rest)";
-      EXPECT_EQ(s.maxDensityIterations, 3);
-    }
-    const ParticleSet& q = sim.particles();
-    for (size_t i = 0; i < q.size(); ++i) {
-      ASSERT_TRUE(std::isfinite(q.x[i]) && std::isfinite(q.vz[i]));
-      ASSERT_TRUE(q.z[i] >= 0.0f && q.z[i] <= 24.5f);
-    }
-  }
+// The solver reaches its tolerance on a dam break and reports its iterations (an unreachable
+// tolerance: DfsphHardCases.UnreachableToleranceHitsTheCapAndRunsOn, label stability).
+TEST(Dfsph, ReachesItsToleranceOnADamBreak) {
+  SimParams p = jellyfishTank("dfsph", 1.0f, InitialState::Lattice);
+  p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);
+  Simulation sim(p);
+  sim.advanceTo(2.0);
+  const SolverStats& s = sim.solver().stats();
+  EXPECT_GT(s.densityIterations, 0u);
+  EXPECT_EQ(s.densityCapHits, 0u);
+  EXPECT_EQ(s.divergenceCapHits, 0u);
+  EXPECT_LE(s.maxDensityError, 0.001 + 1e-9);
 }
 
 // The pressure step bound (sim/time_step.h): in the jellyfish's tank at 0.5 m spacing, 20 m of
