@@ -871,6 +871,9 @@ TEST(DfsphHardCases, UnreachableToleranceHitsTheCapAndRunsOn) {
     ASSERT_LE(mechanicalEnergy(sim), e0 * 1.001) << at(sim);
   }
   const SolverStats& s = sim.solver().stats();
+  std::printf("unreachable tolerance: %llu of %llu density solves at the cap of 3\n",
+              (unsigned long long)s.densityCapHits, (unsigned long long)s.steps);
+  RecordProperty("density_cap_hits", std::to_string(s.densityCapHits) + " of " + std::to_string(s.steps));
   EXPECT_GE(s.densityCapHits + 1, s.steps) << "every step at the cap (but the first, from rest)";
   EXPECT_EQ(s.maxDensityIterations, 3);
 }
@@ -940,5 +943,7 @@ TEST(DfsphHardCases, ColumnDroppedOntoAPinnedMembrane) {
     }
   std::printf("column onto a membrane under DFSPH: sheet's lowest point %.2f m, %zu of %zu fluid particles below it\n",
               lowest, below, fluid);
+  RecordProperty("sheet_lowest_m", std::to_string(lowest));
+  RecordProperty("fluid_below_sheet", std::to_string(below) + " of " + std::to_string(fluid));
   EXPECT_GT(lowest, 2.0f) << "the sheet stays up";
 }
