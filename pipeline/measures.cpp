@@ -132,6 +132,71 @@ double submergedFraction(const sim::ParticleSet& p, int kind, float fluidSpacing
   return double(below) / double(e.count);
 }
 
+HydrostaticTrack::HydrostaticTrack(const sim::SimParams& params, double filledHeight)
+    : params_(params), filledHeight_(filledHeight) {}
+
+double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
+  const float l = params_.fluid.spacing, h = params_.fluid.supportRadiusMetres();
+  const Eigen::Vector3f& lo = params_.container.min;
+  const Eigen::Vector3f& hi = params_.container.max;
+  std::map<std::pair<int, int>, float> top;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] != 0 || p.x[i] < lo.x() + h || p.x[i] > hi.x() - h || p.y[i] < lo.y() + h || p.y[i] > hi.y() - h)
+      continue;
+    const auto key = std::make_pair(int(std::floor(p.x[i] / l)), int(std::floor(p.y[i] / l)));
+    auto [it, inserted] = top.emplace(key, p.z[i]);
+    if (!inserted) it->second = std::max(it->second, p.z[i]);
+  }
+  double sum = 0.0;
+  for (const auto& [key, z] : top) sum += z;
+  return top.empty() ? 0.0 : sum / double(top.size()) + 0.5 * l - lo.z();
+}
+
+void HydrostaticTrack::record(const sim::ParticleSet& p) {
+  const double surface = freeSurface(p);
+  surfaceSum_ += surface;
+  ++samples_;
+  const float l = params_.fluid.spacing, h = params_.fluid.supportRadiusMetres();
+  const Eigen::Vector3f& lo = params_.container.min;
+  const Eigen::Vector3f& hi = params_.container.max;
+  const double rho0g = params_.fluid.restDensity * params_.gravity.norm();
+  const double H = filledHeight_;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const float z = p.z[i] - lo.z();
+    const int k = int(std::floor(z / l));  // slab [k l, (k + 1) l), wholly inside [2h, H - 2h]
+    if (p.kind[i] != 0 || p.x[i] < lo.x() + h || p.x[i] > hi.x() - h || p.y[i] < lo.y() + h ||
+        p.y[i] > hi.y() - h || k * l < 2 * h || (k + 1) * l > H - 2 * h + 1e-3 * l)
+      continue;
+    Slab& s = slabs_[k];
+    s.sum += p.pressure[i] / (rho0g * (surface - z));
+    ++s.count;
+    Slab& f = filled_[k];
+    f.sum += p.pressure[i] / (rho0g * (H - z));
+    ++f.count;
+  }
+}
+
+double HydrostaticTrack::surfaceError() const {
+  return samples_ == 0 ? 0.0 : std::fabs(surfaceSum_ / samples_ - filledHeight_) / filledHeight_;
+}
+
+double HydrostaticTrack::worst(const std::map<int, Slab>& slabs) {
+  double w = 0.0;
+  for (const auto& [k, s] : slabs) w = std::max(w, std::fabs(s.sum / double(s.count) - 1.0));
+  return w;
+}
+
+double rmsSpeed(const sim::ParticleSet& p, int kind) {
+  double v2 = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == kind) {
+      v2 += p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i];
+      ++n;
+    }
+  return n == 0 ? 0.0 : std::sqrt(v2 / double(n));
+}
+
 MembraneLeak membraneLeak(const sim::ParticleSet& p, int kind, float fluidSpacing) {
   const float lowest = kindExtent(p, kind).min.z();
   MembraneLeak m;

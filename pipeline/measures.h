@@ -1,6 +1,6 @@
 // Error measures against references, shared by the studies (pipeline/study.h) and the tests:
 // the dam break against Martin & Moyce (1952), Archimedes' submerged fraction, fluid tunnelling
-// through a membrane, the distance of a metaball level set from the exact metaball surface, and
+// through a membrane, a still tank's free surface and pressure, the distance of a metaball level set from the exact metaball surface, and
 // the RMSE between two images. Each takes particles or images as they are; none runs anything.
 //
 // Units: metres and seconds unless a name says otherwise; dimensionless series are Martin &
@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <map>
 #include <vector>
 
 namespace kurage::pipeline {
@@ -103,6 +104,46 @@ struct MembraneLeak {
   size_t leaked = 0;  // of which below the membrane
 };
 MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float fluidSpacing);
+
+// ---- A still tank ----
+
+// Samples a tank of fluid (kind 0) filled to `filledHeight` above the container's floor, meant to
+// stand still (tests/test_dfsph.cpp's HydrostaticTank, the hydrostatic_tank study):
+// - the free surface: over the columns one spacing wide (cells of the x-y grid anchored at 0)
+//   clear of the side walls by h, the mean height of the top particle, plus half a spacing;
+// - each interior slab's pressure over rho0 g (depth): slabs one spacing thick, wholly inside
+//   [2h, H - 2h] above the floor, clear of the side walls by h, their depth measured from the
+//   sample's free surface and, apart, from the filled height H.
+// Each record adds one sample; the slabs' ratios are averaged over every sample.
+class HydrostaticTrack {
+public:
+  HydrostaticTrack(const sim::SimParams& params, double filledHeight);
+  void record(const sim::ParticleSet& particles);
+  // Free surface of one sample, m above the container's floor (0 when no column qualifies).
+  double freeSurface(const sim::ParticleSet& particles) const;
+  int samples() const { return samples_; }
+  int slabs() const { return int(slabs_.size()); }
+  // |mean free surface - H| / H over the samples.
+  double surfaceError() const;
+  // The largest |mean of p / (rho0 g depth) - 1| over the slabs, depth below each sample's free
+  // surface; and below the filled height.
+  double worstSlab() const { return worst(slabs_); }
+  double worstSlabBelowFilled() const { return worst(filled_); }
+
+private:
+  struct Slab {
+    double sum = 0.0;
+    long count = 0;
+  };
+  static double worst(const std::map<int, Slab>& slabs);
+  sim::SimParams params_;
+  double filledHeight_ = 0.0, surfaceSum_ = 0.0;
+  int samples_ = 0;
+  std::map<int, Slab> slabs_, filled_;
+};
+
+// RMS speed of the particles of one kind (0 = fluid), m/s; 0 when there are none.
+double rmsSpeed(const sim::ParticleSet& particles, int kind);
 
 // ---- Jellyfish (a shell body: the bell) ----
 

@@ -43,6 +43,7 @@ std::string surfaceKey(const nlohmann::json& doc) {
 struct SimOutcome {
   sim::ParticleSet particles;
   sim::SimStats stats;
+  sim::SolverStats solver;
   double seconds = 0.0;
   size_t capHits = 0;
 };
@@ -67,6 +68,7 @@ SimOutcome simulate(const Scene& scene, double duration, const std::vector<doubl
   out.seconds = seconds;
   out.particles = simulation.particles();
   out.stats = simulation.stats();
+  out.solver = simulation.solver().stats();
   if (const sim::BodySystem* bodies = simulation.bodies()) out.capHits = bodies->stats().capHits;
   return out;
 }
@@ -100,6 +102,7 @@ public:
       case StudyMeasure::DamBreakFront:
       case StudyMeasure::DamBreakColumn: damBreak(scene, row); break;
       case StudyMeasure::Buoyancy: buoyancy(scene, row); break;
+      case StudyMeasure::HydrostaticTank: stillTank(scene, row); break;
       case StudyMeasure::MembraneLeak: membrane(scene, row); break;
       case StudyMeasure::SurfaceDistance: surfaceDistanceRun(doc, scene, row); break;
       case StudyMeasure::RenderRmse: renderRmseRun(doc, scene, row); break;
@@ -146,10 +149,7 @@ private:
   }
 
   void buoyancy(const Scene& scene, StudyRow& row) {
-    const double from = study_.averageFrom < 0.0f ? 0.5 * study_.duration : study_.averageFrom;
-    std::vector<double> times;
-    for (int k = 0; from + k * double(study_.sampleInterval) <= study_.duration * (1.0 + 1e-9); ++k)
-      times.push_back(std::min<double>(from + k * double(study_.sampleInterval), study_.duration));
+    const std::vector<double> times = sampleTimes();
     double sum = 0.0;
     const int kind = study_.body + 1;
     const SimOutcome sim = simulate(scene, study_.duration, times, [&](const sim::Simulation& s) {
@@ -161,6 +161,32 @@ private:
     const double gravity = scene.sim.bodies[size_t(study_.body)].specificGravity;
     row.figures = {fraction, gravity, double(times.size())};
     row.error = std::fabs(fraction - gravity);
+  }
+
+  // The times from average_from (half the duration when not given) to the duration, every
+  // sample_interval.
+  std::vector<double> sampleTimes() const {
+    const double from = study_.averageFrom < 0.0f ? 0.5 * study_.duration : study_.averageFrom;
+    std::vector<double> times;
+    for (int k = 0; from + k * double(study_.sampleInterval) <= study_.duration * (1.0 + 1e-9); ++k)
+      times.push_back(std::min<double>(from + k * double(study_.sampleInterval), study_.duration));
+    return times;
+  }
+
+  void stillTank(const Scene& scene, StudyRow& row) {
+    const double filled = scene.sim.fluidBlocks.front().max.z() - scene.sim.container.min.z();
+    HydrostaticTrack track(scene.sim, filled);
+    const std::vector<double> times = sampleTimes();
+    const SimOutcome sim = simulate(scene, study_.duration, times, [&](const sim::Simulation& s) { track.record(s.particles()); });
+    takeSimFigures(row, sim);
+    row.totalSeconds = row.simSeconds;
+    if (track.slabs() == 0) throw std::runtime_error("no interior slab: the tank is shallower than 4 h");
+    const sim::SolverStats& solver = sim.solver;
+    const double iterations =
+        solver.steps ? double(solver.densityIterations + solver.divergenceIterations) / double(solver.steps) : 0.0;
+    row.figures = {track.surfaceError(), rmsSpeed(sim.particles, 0), track.worstSlabBelowFilled(), double(track.slabs()),
+                   double(track.samples()), iterations};
+    row.error = track.worstSlab();
   }
 
   void membrane(const Scene& scene, StudyRow& row) {
@@ -345,6 +371,7 @@ std::string errorUnit(StudyMeasure m) {
     case StudyMeasure::SurfaceDistance: return "mean distance from the exact surface (m)";
     case StudyMeasure::RenderRmse: return "RMSE vs reference (sRGB)";
     case StudyMeasure::DensityError: return "mean compression of the fluid over the run, fraction of rho0";
+    case StudyMeasure::HydrostaticTank: return "worst interior slab's |p / (rho0 g depth) - 1|, averaged over the samples";
     case StudyMeasure::None: return "";
   }
   return "";
@@ -359,6 +386,7 @@ std::string errorAxis(StudyMeasure m) {
     case StudyMeasure::SurfaceDistance: return "mean distance (m)";
     case StudyMeasure::RenderRmse: return "RMSE (sRGB)";
     case StudyMeasure::DensityError: return "mean density error";
+    case StudyMeasure::HydrostaticTank: return "worst slab pressure error";
     case StudyMeasure::None: return "";
   }
   return "";

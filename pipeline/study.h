@@ -33,6 +33,11 @@
 //   density_error  the fluid's mean compression over the run (each step's mean over fluid
 //       particles of max(rho - rho0, 0) / rho0, averaged over the steps; the largest step's value
 //       is a figure): what a pressure solver's stiffness or tolerance buys. Times the simulation.
+//   hydrostatic_tank  a still tank filled to fluid_blocks[0]'s top: the worst interior slab's
+//       |p / (rho0 g depth) - 1|, averaged over the samples from `average_from` every
+//       `sample_interval`; figures: the free surface's error against the filled height, the RMS
+//       speed at the end, the slabs against the filled height, and the solver's iterations a step.
+//       Times the simulation.
 //   none  no error: timing only (what switching an effect off saves). Times the simulation.
 #pragma once
 
@@ -49,7 +54,7 @@
 namespace kurage::pipeline {
 
 enum class StudyMeasure {
-  DamBreakFront, DamBreakColumn, Buoyancy, MembraneLeak, SurfaceDistance, RenderRmse, DensityError, None
+  DamBreakFront, DamBreakColumn, Buoyancy, MembraneLeak, SurfaceDistance, RenderRmse, DensityError, HydrostaticTank, None
 };
 std::string_view studyMeasureName(StudyMeasure measure);
 
@@ -85,8 +90,8 @@ struct Study {
   float duration = 0.0f;        // simulated seconds
   double errorThreshold = -1.0;  // the accepted error (required unless the measure is none)
   std::string referenceData;     // dam break: the Martin & Moyce CSV, relative to the study file's folder
-  float averageFrom = -1.0f;     // buoyancy: s; < 0 = half the duration
-  float sampleInterval = 0.5f;   // buoyancy: s between samples
+  float averageFrom = -1.0f;     // buoyancy, hydrostatic_tank: s; < 0 = half the duration
+  float sampleInterval = 0.5f;   // buoyancy, hydrostatic_tank: s between samples
   int body = 0;                  // buoyancy, membrane_leak: bodies[body]
   int rays = 2000;               // surface_distance
   int referenceSamples = 256;    // render_rmse

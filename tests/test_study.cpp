@@ -318,3 +318,44 @@ TEST(Measures, MembraneLeakCountsFluidBelowTheLowestBodyParticle) {
   EXPECT_EQ(leak.fluid, 3u);
   EXPECT_EQ(leak.leaked, 1u);
 }
+
+// A lattice 10 m deep at rest with the hydrostatic pressure reads no error; each slab's pressure
+// 3 % high reads 3 %, and a tank that sank by one spacing reads its surface 10 % low.
+TEST(Measures, HydrostaticTrackReadsTheSlabsAndTheSurface) {
+  sim::SimParams params;
+  params.fluid.spacing = 1.0f;
+  params.fluid.supportRadius = 2.0f;  // h = 2 m: slabs from 4 to 6 m above the floor
+  params.gravity = Eigen::Vector3f(0, 0, -6);
+  params.container.max = Eigen::Vector3f(10, 10, 12);
+  auto tank = [&](float scale, float drop) {
+    sim::ParticleSet p;
+    int64_t id = 0;
+    for (int k = 0; k < 10; ++k)
+      for (int j = 0; j < 10; ++j)
+        for (int i = 0; i < 10; ++i) {
+          const float z = 0.5f + float(k) - drop;
+          p.add(0.5f + float(i), 0.5f + float(j), z, 0, 0, 0, 1000, 1000, id++, 0);
+          p.pressure.back() = scale * 1000.0f * 6.0f * (10.0f - drop - z);
+        }
+    return p;
+  };
+  HydrostaticTrack still(params, 10.0);
+  still.record(tank(1.0f, 0.0f));
+  EXPECT_DOUBLE_EQ(still.freeSurface(tank(1.0f, 0.0f)), 10.0);
+  EXPECT_EQ(still.samples(), 1);
+  EXPECT_EQ(still.slabs(), 2);  // [4, 5) and [5, 6): wholly inside [2h, H - 2h]
+  EXPECT_NEAR(still.surfaceError(), 0.0, 1e-12);
+  EXPECT_NEAR(still.worstSlab(), 0.0, 1e-6);
+  HydrostaticTrack high(params, 10.0);
+  high.record(tank(1.03f, 0.0f));
+  EXPECT_NEAR(high.worstSlab(), 0.03, 1e-6);
+  HydrostaticTrack sunk(params, 10.0);
+  sunk.record(tank(1.0f, 1.0f));
+  EXPECT_NEAR(sunk.surfaceError(), 0.1, 1e-9);
+  EXPECT_NEAR(sunk.worstSlab(), 0.0, 1e-6) << "the depth is measured from the sample's own surface";
+  EXPECT_GT(sunk.worstSlabBelowFilled(), 0.1) << "and, apart, from the filled height";
+  sim::ParticleSet moving = tank(1.0f, 0.0f);
+  for (size_t i = 0; i < moving.size(); ++i) moving.vz[i] = i % 2 ? 2.0f : -2.0f;
+  EXPECT_FLOAT_EQ(float(rmsSpeed(moving, 0)), 2.0f);
+  EXPECT_EQ(rmsSpeed(moving, 1), 0.0);
+}

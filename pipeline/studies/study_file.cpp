@@ -19,6 +19,7 @@ inline const EnumTable<StudyMeasure> kStudyMeasure{{"dam_break_front", StudyMeas
                                                    {"surface_distance", StudyMeasure::SurfaceDistance},
                                                    {"render_rmse", StudyMeasure::RenderRmse},
                                                    {"density_error", StudyMeasure::DensityError},
+                                                   {"hydrostatic_tank", StudyMeasure::HydrostaticTank},
                                                    {"none", StudyMeasure::None}};
 
 std::string_view studyMeasureName(StudyMeasure measure) {
@@ -63,8 +64,8 @@ void describe(V& v, Study& s) {
   v.value("duration", s.duration, {"s", "simulated time of each run", nonNegative(), true});
   v.value("error_threshold", s.errorThreshold, {"", "the accepted error, in the measure's unit", nonNegative()});
   v.value("reference_data", s.referenceData, {"", "dam break: Martin & Moyce CSV, relative to the study file"});
-  v.value("average_from", s.averageFrom, {"s", "buoyancy: average the submerged fraction from this time", nonNegative()});
-  v.value("sample_interval", s.sampleInterval, {"s", "buoyancy: time between samples", positive()});
+  v.value("average_from", s.averageFrom, {"s", "buoyancy, hydrostatic_tank: average from this time", nonNegative()});
+  v.value("sample_interval", s.sampleInterval, {"s", "buoyancy, hydrostatic_tank: time between samples", positive()});
   v.value("body", s.body, {"", "buoyancy, membrane_leak: index of the body", between(0, 1000)});
   v.value("rays", s.rays, {"", "surface_distance: rays from the particles' centroid", between(1, 1000000)});
   v.value("reference_samples", s.referenceSamples, {"", "render_rmse: samples per pixel of the reference", between(1, 65536)});
@@ -182,6 +183,10 @@ std::string measureProblem(const Study& study, const Scene& scene) {
         return "body " + std::to_string(study.body) + " is not in the scene (it has " +
                std::to_string(scene.sim.bodies.size()) + " bodies)";
       break;
+    case StudyMeasure::HydrostaticTank:
+      if (scene.sim.fluidBlocks.empty()) return "a still tank needs fluid_blocks[0] (its filled height)";
+      if (scene.sim.gravity.norm() <= 0.0f) return "a still tank needs gravity";
+      break;
     case StudyMeasure::SurfaceDistance:
     case StudyMeasure::RenderRmse:
     case StudyMeasure::DensityError:
@@ -247,7 +252,8 @@ Study parseStudy(const nlohmann::json& document, const fs::path& file) {
       fail("reference_data", e.what());
     }
   }
-  if (study.measure == StudyMeasure::Buoyancy && study.averageFrom > study.duration)
+  if ((study.measure == StudyMeasure::Buoyancy || study.measure == StudyMeasure::HydrostaticTank) &&
+      study.averageFrom > study.duration)
     fail("average_from", "must not be after the duration");
 
   // The base scene, then every knob value alone, then every combination, as scenes.
@@ -330,6 +336,8 @@ std::vector<std::string> studyFigureNames(StudyMeasure measure) {
       return {"max_m", "rms_m", "rays", "misses", "active_voxels", "memory_mb"};
     case StudyMeasure::RenderRmse: return {"total_mrays", "reference_seconds"};
     case StudyMeasure::DensityError: return {"max_density_error", "steps"};
+    case StudyMeasure::HydrostaticTank:
+      return {"surface_error", "rms_speed", "worst_slab_below_filled", "slabs", "samples", "mean_iterations"};
     case StudyMeasure::None: return {};
   }
   return {};
