@@ -235,6 +235,18 @@ TEST(Study, BadStudyFilesAreRefusedWithExit2NamingTheJsonPath) {
     s.erase("error_threshold");
     cases.push_back({"missing threshold", s, "error_threshold"});
   }
+  {
+    nlohmann::json s = tinyStudy();
+    s["measure"] = "hydrostatic_tank";
+    s["average_from"] = 1.0;  // after the 0.3 s duration
+    cases.push_back({"still tank averaged after its end", s, "average_from"});
+  }
+  {
+    nlohmann::json s = tinyStudy();
+    s["measure"] = "hydrostatic_tank";
+    s["knobs"][0] = {{"path", "gravity"}, {"values", {{0, 0, -9.81}, {0, 0, 0}}}};
+    cases.push_back({"still tank without gravity", s, "knobs[0].values[1]"});
+  }
   for (const Case& c : cases) {
     const std::string file = writeStudy(dir, c.study, "bad.json");
     const auto log = dir.path() / "log.txt";
