@@ -133,45 +133,42 @@ double submergedFraction(const sim::ParticleSet& p, int kind, float fluidSpacing
 }
 
 HydrostaticTrack::HydrostaticTrack(const sim::SimParams& params, double filledHeight)
-    : params_(params), filledHeight_(filledHeight) {}
+    : l_(params.fluid.spacing), h_(params.fluid.supportRadiusMetres()), lo_(params.container.min),
+      hi_(params.container.max), rho0g_(params.fluid.restDensity * params.gravity.norm()),
+      filledHeight_(filledHeight) {}
+
+bool HydrostaticTrack::interior(const sim::ParticleSet& p, size_t i) const {
+  return p.kind[i] == 0 && p.x[i] >= lo_.x() + h_ && p.x[i] <= hi_.x() - h_ && p.y[i] >= lo_.y() + h_ &&
+         p.y[i] <= hi_.y() - h_;
+}
 
 double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
-  const float l = params_.fluid.spacing, h = params_.fluid.supportRadiusMetres();
-  const Eigen::Vector3f& lo = params_.container.min;
-  const Eigen::Vector3f& hi = params_.container.max;
   std::map<std::pair<int, int>, float> top;
   for (size_t i = 0; i < p.size(); ++i) {
-    if (p.kind[i] != 0 || p.x[i] < lo.x() + h || p.x[i] > hi.x() - h || p.y[i] < lo.y() + h || p.y[i] > hi.y() - h)
-      continue;
-    const auto key = std::make_pair(int(std::floor(p.x[i] / l)), int(std::floor(p.y[i] / l)));
+    if (!interior(p, i)) continue;
+    const auto key = std::make_pair(int(std::floor(p.x[i] / l_)), int(std::floor(p.y[i] / l_)));
     auto [it, inserted] = top.emplace(key, p.z[i]);
     if (!inserted) it->second = std::max(it->second, p.z[i]);
   }
   double sum = 0.0;
   for (const auto& [key, z] : top) sum += z;
-  return top.empty() ? 0.0 : sum / double(top.size()) + 0.5 * l - lo.z();
+  return top.empty() ? 0.0 : sum / double(top.size()) + 0.5 * l_ - lo_.z();
 }
 
 void HydrostaticTrack::record(const sim::ParticleSet& p) {
   const double surface = freeSurface(p);
   surfaceSum_ += surface;
   ++samples_;
-  const float l = params_.fluid.spacing, h = params_.fluid.supportRadiusMetres();
-  const Eigen::Vector3f& lo = params_.container.min;
-  const Eigen::Vector3f& hi = params_.container.max;
-  const double rho0g = params_.fluid.restDensity * params_.gravity.norm();
   const double H = filledHeight_;
   for (size_t i = 0; i < p.size(); ++i) {
-    const float z = p.z[i] - lo.z();
-    const int k = int(std::floor(z / l));  // slab [k l, (k + 1) l), wholly inside [2h, H - 2h]
-    if (p.kind[i] != 0 || p.x[i] < lo.x() + h || p.x[i] > hi.x() - h || p.y[i] < lo.y() + h ||
-        p.y[i] > hi.y() - h || k * l < 2 * h || (k + 1) * l > H - 2 * h + 1e-3 * l)
-      continue;
+    const float z = p.z[i] - lo_.z();
+    const int k = int(std::floor(z / l_));  // slab [k l, (k + 1) l), wholly inside [2h, H - 2h]
+    if (!interior(p, i) || k * l_ < 2 * h_ || (k + 1) * l_ > H - 2 * h_ + 1e-3 * l_) continue;
     Slab& s = slabs_[k];
-    s.sum += p.pressure[i] / (rho0g * (surface - z));
+    s.sum += p.pressure[i] / (rho0g_ * (surface - z));
     ++s.count;
     Slab& f = filled_[k];
-    f.sum += p.pressure[i] / (rho0g * (H - z));
+    f.sum += p.pressure[i] / (rho0g_ * (H - z));
     ++f.count;
   }
 }

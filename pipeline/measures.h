@@ -1,7 +1,8 @@
 // Error measures against references, shared by the studies (pipeline/study.h) and the tests:
 // the dam break against Martin & Moyce (1952), Archimedes' submerged fraction, fluid tunnelling
-// through a membrane, a still tank's free surface and pressure, the distance of a metaball level set from the exact metaball surface, and
-// the RMSE between two images. Each takes particles or images as they are; none runs anything.
+// through a membrane, a still tank's free surface and pressure, the distance of a metaball level
+// set from the exact metaball surface, and the RMSE between two images. Each takes particles or
+// images as they are; none runs anything.
 //
 // Units: metres and seconds unless a name says otherwise; dimensionless series are Martin &
 // Moyce's (front Z = x / a against T = t sqrt(2 g / a), residual height H = h / (2a) against
@@ -136,7 +137,11 @@ private:
     long count = 0;
   };
   static double worst(const std::map<int, Slab>& slabs);
-  sim::SimParams params_;
+  // A fluid particle clear of the side walls by h.
+  bool interior(const sim::ParticleSet& p, size_t i) const;
+  float l_, h_;  // spacing and support radius, m
+  Eigen::Vector3f lo_, hi_;
+  double rho0g_;
   double filledHeight_ = 0.0, surfaceSum_ = 0.0;
   int samples_ = 0;
   std::map<int, Slab> slabs_, filled_;

@@ -234,7 +234,7 @@ TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
 // 0.01 s as a float stops at 4.9999999 s and is then asked for 5 s. Under DFSPH a step of 0.07 us
 // there took the still tank's RMS speed from 0.65 to 16,000 m/s. A request shorter than
 // time_step.min_step now moves the clock without a step (Simulation::advanceTo). Measured
-// without that: a 5 us sliver gives 47 m/s at 1 s and 53 m/s at 1.1 s; 0.1 us stops the run.
+// without that: a 10 us sliver gave 47 m/s at 1 s and 53 m/s at 1.1 s; 0.1 us stops the run.
 TEST(Dfsph, ASliverBeforeTheRequestedTimeDoesNotKickTheFluid) {
   for (const double sliver : {1e-7, 5e-6}) {
     Simulation sim(jellyfishTank("dfsph", 1.0f));
