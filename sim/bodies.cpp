@@ -403,6 +403,12 @@ void BodySystem::applyPins(ParticleSet& p, double t) const {
   }
 }
 
+void BodySystem::markHeld(const ParticleSet& p, double t, std::vector<uint8_t>& held) const {
+  held.assign(p.size(), 0);
+  for (size_t k = 0; k < pinnedIds_.size(); ++k)
+    if (t < pinnedUntil_[size_t(pinnedIds_[k])]) held[indexOfId_[size_t(pinnedIds_[k])]] = 1;
+}
+
 namespace {
 constexpr int kCellBits = 21;
 constexpr int64_t kCellBias = int64_t(1) << (kCellBits - 1);

@@ -93,6 +93,9 @@ public:
   // Holds pinned particles at their initial positions, at rest; a held body's particles while
   // t < hold_until.
   void applyPins(ParticleSet& particles, double t) const;
+  // held[i] = 1 for the particles applyPins holds at time t, 0 for every other (resized to the
+  // particle count).
+  void markHeld(const ParticleSet& particles, double t, std::vector<uint8_t>& held) const;
   // (14) The collision loop between body particles not joined by a spring (SPEC §3.4); particles
   // pinned at time t do not move.
   void collide(ParticleSet& particles, int maxPasses, double t);

@@ -2,6 +2,7 @@
 // the collision loop and its cap, pins, Archimedes' principle, the paper's box sequence (Fig. 3)
 // and membrane (Fig. 2), and which stages a scene runs.
 #include "pipeline/io/files.h"
+#include "pipeline/measures.h"
 #include "pipeline/scene.h"
 #include "sim/body_shapes.h"
 #include "sim/simulation.h"
@@ -794,6 +795,33 @@ TEST_P(Membrane, TelescopicDensityHoldsTheFluidTheConventionalModelLeaks) {
   }
   EXPECT_LT(leaked[true], 0.1) << "telescopic density";
   EXPECT_GT(leaked[false], 0.5) << "conventional mass-spring model";
+}
+
+// membrane.json under DFSPH (boundary-particle walls, hydrostatic start) runs its 16 s. It went
+// non-finite at t = 8-9 s: the solves pushed the held rim, whose warm-started pressure grew step
+// after step (8 MPa), and then a torn-off particle whose rest density had fallen below twice its own
+// kernel's share was given a pressure without bound (sim/solvers/dfsph.h). The leak test itself is
+// not met under DFSPH (the stretched membrane swells into a foam; docs/PHYSICS.md), so only that
+// the run completes with finite particles inside the tank is asserted; the leak is printed.
+TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
+  pipeline::Scene scene = sceneFile("membrane.json");
+  scene.sim.fluid.solver = "dfsph";
+  scene.sim.container.wallDensity = WallDensity::BoundaryParticles;
+  scene.sim.fluid.initialState = InitialState::Hydrostatic;
+  Simulation sim(scene.sim);
+  ASSERT_NO_THROW(sim.advanceTo(scene.output.duration));
+  const ParticleSet& p = sim.particles();
+  const Eigen::Vector3f& lo = scene.sim.container.min;
+  const Eigen::Vector3f& hi = scene.sim.container.max;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector3f x(p.x[i], p.y[i], p.z[i]);
+    ASSERT_TRUE(x.allFinite() && std::isfinite(p.vx[i] + p.vy[i] + p.vz[i])) << "particle " << p.id[i];
+    ASSERT_TRUE((x.array() >= lo.array() - 1e-3f).all() && (x.array() <= hi.array() + 1e-3f).all())
+        << "particle " << p.id[i] << " outside the tank";
+  }
+  const pipeline::MembraneLeak leak = pipeline::membraneLeak(p, 1, scene.sim.fluid.spacing);
+  std::printf("membrane.json under DFSPH at %.0f s: %zu of %zu fluid particles below the membrane\n",
+              scene.output.duration, leak.leaked, leak.fluid);
 }
 
 const auto kSolverName = [](const auto& info) { return info.param; };

@@ -17,6 +17,7 @@ constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergenc
 constexpr float kMirror = 2.0f;               // the wall's pressure counts with the particle's (header)
 constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
 constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergence pressure
+constexpr float kTornRatio = 2.0f;            // a body particle with rho0_i < 2 m_i W(0) is torn (header)
 }  // namespace
 
 DfsphSolver::DfsphSolver(const FluidParams& fluid)
@@ -79,6 +80,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   const size_t n = p.size();
   invFactor_.resize(n);
   active_.resize(n);
+  fixed_.resize(n);
   relax_.resize(n);
   pi_.resize(n);
   change_.resize(n);
@@ -141,8 +143,12 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       }
       const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
       const float ref = position_[i][3] * dRef;
-      invFactor_[i] = D > 1e-6f * ref * ref ? 1.0f / D : 0.0f;
-      active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i;
+      // A particle a pin holds, and a body particle stretched so far that its own kernel's share
+      // of its density, m_i W(0), is more than half its rest density (a telescopic body torn
+      // apart), are no unknowns: the solves neither push them nor count their error (header).
+      fixed_[i] = (c.held && c.held[i]) || (p.kind[i] != 0 && rho0i < kTornRatio * p.mass[i] * kernel_.sigma);
+      invFactor_[i] = D > 1e-6f * ref * ref && !fixed_[i] ? 1.0f / D : 0.0f;
+      active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i && !fixed_[i];
       // Jacobi's largest eigenvalue grows with the neighbour count: a body at half the fluid
       // spacing has about 8 times the fluid's neighbours, and the iteration diverged there with
       // the fluid's relaxation (bodies under DFSPH went non-finite). Scaled down where a particle
@@ -345,6 +351,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
         const float s = kMirror * wallWeight(p, i) * ki;  // psi_b (k_i + k_b), k_b = k_i
         a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
       }
+      if (c.held && c.held[i]) continue;  // its velocity is the pin's
       a[3] = 0.0f;  // the weights' lane
       if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
       v[i] -= scale * a;  // (2017, eq. 7; header)
@@ -358,7 +365,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
   if (n == 0) return;
   const bool warm = orderedSum(n, [&](size_t i) {
     const size_t id = size_t(p.id[i]);
-    pi_[i] = id < piById_.size() ? piById_[id] * unit(p, i) : 0.0f;
+    pi_[i] = id < piById_.size() && !fixed_[i] ? piById_[id] * unit(p, i) : 0.0f;
     return pi_[i] != 0.0f ? 1.0 : 0.0;
   }) > 0.0;
   loadVelocities(p);  // v*
@@ -367,6 +374,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     forEach(n, [&](size_t i) {
       // The walls' hydrostatic part of their pressure, p_b - p_i = rho0_i g . (x_b - x_i) (Adami
       // 2012): -dt sum_b psi_b (p_b - p_i) / rho0_i^2 grad W_ib, known before the solve.
+      if (c.held && c.held[i]) return;  // its velocity is the pin's
       const float* lift = c.boundaryLift + 3 * i;
       velocity_[i] -= dt * Float4{lift[0], lift[1], lift[2], 0.0f};
     });
@@ -377,6 +385,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
   for (;;) {
     densityRate(c, velocity_.data());
     const double sum = orderedSum(n, [&](size_t i) {
+      if (fixed_[i]) { change_[i] = 0.0f; return 0.0; }  // no unknown (afterDensity)
       const float e = p.density[i] + dt * rate_[i] - p.restDensity[i];  // rho*_i - rho0_i
       const float next = std::max(0.0f, pi_[i] + relax_[i] * e * invDt2 * invFactor_[i]);
       change_[i] = next - pi_[i];
@@ -439,7 +448,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
   }
   for (size_t i = 0; i < n; ++i) {
     const size_t k = size_t(p.kind[i]);
-    if (k == 0 || headCount_[k] == 0.0) continue;
+    if (k == 0 || headCount_[k] == 0.0 || (c.held && c.held[i])) continue;
     const float* gb = c.boundaryGradient + 3 * i;
     if (gb[0] == 0.0f && gb[1] == 0.0f && gb[2] == 0.0f) continue;
     const float film = float(headSum_[k] / headCount_[k]) +
@@ -452,7 +461,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 
 size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
-             sizeof(float) + active_.capacity();
+             sizeof(float) + active_.capacity() + fixed_.capacity();
   b += (scratch_.capacity() + correctionRows_.capacity()) * sizeof(Float4);
   return b;
 }

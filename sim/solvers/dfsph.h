@@ -40,6 +40,18 @@
 // The walls' terms keep the plain gradient (L_i = I within h of a wall). (WCSPH's force pairs
 // the two as (L_i + L_j) / 2, which is not the transpose of a corrected rate.)
 //
+// Particles that are no unknowns (ours): neither solve gives them a pressure or counts their error.
+// - A particle a pin holds (SolverContext::held): its velocity is the pin's, so the push leaves it
+//   alone. Before, the solves pushed it, the pin undid the push, and the warm-started pressure of
+//   a rim particle compressed by its pinned neighbours grew step after step (8 MPa under 5 m of
+//   water) until it tore the loaded membrane of membrane.json apart (non-finite at t = 8.2 s).
+// - A telescopic body particle stretched until its rest density is below twice its own kernel's
+//   share of its density, rho0_i < 2 m_i W(0): a particle torn off the body. No pressure can bring
+//   it to its rest density (its own share alone is more than half of it, and it has few
+//   neighbours, so D_i is small): its pressure grew without bound and flung it out at hundreds of
+//   m/s (the same membrane, once its rim was held, at t = 6.9 s; rho0_i fell from 110 to 80 kg/m^3
+//   against m_i W(0) = 104 over the last 0.05 s). It still feels its neighbours' pressure.
+//
 // Walls wetted by the fluid (ours): a body resting on a wall has no fluid under it, so the mirrored
 // wall alone gives it no buoyancy there, and box.json's box, released on the floor, stayed on it
 // (a real box lifts as water seeps under it; a 1 m particle cannot). Under a body particle the
@@ -179,6 +191,7 @@ private:
   std::vector<float> change_;                  // per iteration: the pi (or q) change
   std::vector<float> rate_;                    // Drho/Dt
   std::vector<uint8_t> active_;                // divergence solve: 1 where rho_i >= 0.9 rho0_i
+  std::vector<uint8_t> fixed_;                 // no unknown of either solve: held by a pin, or a torn body particle
   std::vector<float> relax_;                   // per particle: the Jacobi relaxation
   float latticeNeighbours_ = 0.0f;             // neighbours inside a full fluid lattice
   std::vector<double> partial_;                // per chunk sums
