@@ -403,10 +403,15 @@ void BodySystem::applyPins(ParticleSet& p, double t) const {
   }
 }
 
-void BodySystem::markHeld(const ParticleSet& p, double t, std::vector<uint8_t>& held) const {
-  held.assign(p.size(), 0);
+void BodySystem::markUnsolved(const ParticleSet& p, double t, std::vector<uint8_t>& state) const {
+  state.assign(p.size(), kSolved);
+  if (telescopic_)
+    for (size_t id = 0; id < indexOfId_.size(); ++id) {
+      const float leng = lengthRatio_[id];  // 1 for a body without telescopic density
+      if (leng * leng * leng < kTornDensityRatio) state[indexOfId_[id]] = kTorn;
+    }
   for (size_t k = 0; k < pinnedIds_.size(); ++k)
-    if (t < pinnedUntil_[size_t(pinnedIds_[k])]) held[indexOfId_[size_t(pinnedIds_[k])]] = 1;
+    if (t < pinnedUntil_[size_t(pinnedIds_[k])]) state[indexOfId_[size_t(pinnedIds_[k])]] = kHeld;
 }
 
 namespace {

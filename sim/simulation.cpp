@@ -192,7 +192,7 @@ SolverContext Simulation::solverContext() {
     c.boundaryLift = boundaryLift_.data();
   }
   if (solverCorrectsGradient()) c.gradientCorrection = correction_.data();
-  if (!held_.empty()) c.held = held_.data();
+  if (!unsolved_.empty()) c.unsolved = unsolved_.data();
   c.lastStep = lastStep_;
   c.gravity = params_.gravity;
   return c;
@@ -280,13 +280,13 @@ void Simulation::sortParticles() {
 void Simulation::computeAccelerations() {
   sortParticles();
   if (bodies_) bodies_->index(particles_);
-  if (bodies_ && bodies_->hasPins()) bodies_->markHeld(particles_, time_, held_);  // for the solver
   // (4)-(5) depend only on positions, so they run before (3): the volume-weighted density sum
   // needs the neighbours' rest densities of this step.
   if (bodies_ && bodies_->hasTelescopicDensity()) {
     StageTimer timer(stats_, Stage::TelescopicDensity);
     bodies_->updateRestDensity(particles_);
   }
+  if (bodies_ && bodies_->mayLeaveParticlesUnsolved()) bodies_->markUnsolved(particles_, time_, unsolved_);  // for the solver
   const float* boundaryVolume = nullptr;
   if (wallWeightTerms()) computeWallWeightGradient();
   if (boundary_) {

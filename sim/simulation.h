@@ -144,7 +144,7 @@ private:
   std::unique_ptr<BodySystem> bodies_;
   WallSums wallSums_;
   std::vector<float> correction_;  // kernel gradient correction, 6 floats per particle
-  std::vector<uint8_t> held_;      // per particle: held by a pin this step (SolverContext::held)
+  std::vector<uint8_t> unsolved_;  // per particle: held by a pin or torn this step (SolverContext::unsolved)
   std::vector<Emitter> emitters_;
   std::vector<uint8_t> sinkFlags_;
   int64_t nextId_ = 0;

@@ -17,7 +17,6 @@ constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergenc
 constexpr float kMirror = 2.0f;               // the wall's pressure counts with the particle's (header)
 constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
 constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergence pressure
-constexpr float kTornRatio = 2.0f;            // a body particle with rho0_i < 2 m_i W(0) is torn (header)
 }  // namespace
 
 DfsphSolver::DfsphSolver(const FluidParams& fluid)
@@ -143,10 +142,9 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       }
       const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
       const float ref = position_[i][3] * dRef;
-      // A particle a pin holds, and a body particle stretched so far that its own kernel's share
-      // of its density, m_i W(0), is more than half its rest density (a telescopic body torn
-      // apart), are no unknowns: the solves neither push them nor count their error (header).
-      fixed_[i] = (c.held && c.held[i]) || (p.kind[i] != 0 && rho0i < kTornRatio * p.mass[i] * kernel_.sigma);
+      // A particle a pin holds and a torn one are no unknowns: the solves give them no pressure
+      // and do not count their error (header).
+      fixed_[i] = c.unsolved && c.unsolved[i] != kSolved;
       invFactor_[i] = D > 1e-6f * ref * ref && !fixed_[i] ? 1.0f / D : 0.0f;
       active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i && !fixed_[i];
       // Jacobi's largest eigenvalue grows with the neighbour count: a body at half the fluid
@@ -351,7 +349,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
         const float s = kMirror * wallWeight(p, i) * ki;  // psi_b (k_i + k_b), k_b = k_i
         a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
       }
-      if (c.held && c.held[i]) continue;  // its velocity is the pin's
+      if (c.unsolved && c.unsolved[i] == kHeld) continue;  // its velocity is the pin's
       a[3] = 0.0f;  // the weights' lane
       if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
       v[i] -= scale * a;  // (2017, eq. 7; header)
@@ -374,7 +372,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     forEach(n, [&](size_t i) {
       // The walls' hydrostatic part of their pressure, p_b - p_i = rho0_i g . (x_b - x_i) (Adami
       // 2012): -dt sum_b psi_b (p_b - p_i) / rho0_i^2 grad W_ib, known before the solve.
-      if (c.held && c.held[i]) return;  // its velocity is the pin's
+      if (c.unsolved && c.unsolved[i] == kHeld) return;  // its velocity is the pin's
       const float* lift = c.boundaryLift + 3 * i;
       velocity_[i] -= dt * Float4{lift[0], lift[1], lift[2], 0.0f};
     });
@@ -448,7 +446,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
   }
   for (size_t i = 0; i < n; ++i) {
     const size_t k = size_t(p.kind[i]);
-    if (k == 0 || headCount_[k] == 0.0 || (c.held && c.held[i])) continue;
+    if (k == 0 || headCount_[k] == 0.0 || (c.unsolved && c.unsolved[i] == kHeld)) continue;
     const float* gb = c.boundaryGradient + 3 * i;
     if (gb[0] == 0.0f && gb[1] == 0.0f && gb[2] == 0.0f) continue;
     const float film = float(headSum_[k] / headCount_[k]) +

@@ -40,17 +40,19 @@
 // The walls' terms keep the plain gradient (L_i = I within h of a wall). (WCSPH's force pairs
 // the two as (L_i + L_j) / 2, which is not the transpose of a corrected rate.)
 //
-// Particles that are no unknowns (ours): neither solve gives them a pressure or counts their error.
-// - A particle a pin holds (SolverContext::held): its velocity is the pin's, so the push leaves it
-//   alone. Before, the solves pushed it, the pin undid the push, and the warm-started pressure of
-//   a rim particle compressed by its pinned neighbours grew step after step (8 MPa under 5 m of
-//   water) until it tore the loaded membrane of membrane.json apart (non-finite at t = 8.2 s).
-// - A telescopic body particle stretched until its rest density is below twice its own kernel's
-//   share of its density, rho0_i < 2 m_i W(0): a particle torn off the body. No pressure can bring
-//   it to its rest density (its own share alone is more than half of it, and it has few
-//   neighbours, so D_i is small): its pressure grew without bound and flung it out at hundreds of
-//   m/s (the same membrane, once its rim was held, at t = 6.9 s; rho0_i fell from 110 to 80 kg/m^3
-//   against m_i W(0) = 104 over the last 0.05 s). It still feels its neighbours' pressure.
+// Particles that are no unknowns (ours; SolverContext::unsolved, BodySystem::markUnsolved): neither
+// solve gives them a pressure or counts their error.
+// - A particle a pin holds: its velocity is the pin's, so no push moves it. Before, the solves
+//   pushed it, the pin undid the push, and the warm-started pressure of a rim particle compressed
+//   by its pinned neighbours grew step after step (8 MPa under 5 m of water) until it tore the
+//   loaded membrane of membrane.json apart (non-finite at t = 8.2 s).
+// - A telescopic body particle whose rest density (10) has fallen below a quarter of its initial
+//   one (BodySystem::kTornDensityRatio): torn off its body. With its volume m/rho0 grown that much,
+//   its own kernel's share of its density, m_i W(0), approaches its rest density and it has few
+//   neighbours (D_i small), so no pressure brings it to rest density: its pressure grew without
+//   bound and flung it out at hundreds of m/s (the same membrane, once its rim was held, at
+//   t = 6.9 s; rho0_i fell from 112 to 82 kg/m^3, m_i W(0) = 104, in 0.05 s). It still feels its
+//   neighbours' pressure.
 //
 // Walls wetted by the fluid (ours): a body resting on a wall has no fluid under it, so the mirrored
 // wall alone gives it no buoyancy there, and box.json's box, released on the floor, stayed on it

@@ -42,9 +42,10 @@ struct SolverContext {
   const float* boundaryGradient = nullptr;    // per particle, 3 floats: sum_b V_b grad W_ib
   const float* boundaryLift = nullptr;        // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
   const float* gradientCorrection = nullptr;  // per particle, 6 floats: L_i (fluid.h), or null
-  // Per particle: 1 where a pin holds a body particle in place this step (its velocity is not the
-  // solver's to change), or null when nothing is held.
-  const uint8_t* held = nullptr;
+  // Per particle, an UnsolvedState (sim/particles.h): kHeld where a pin holds a body particle in
+  // place this step (its velocity is not the solver's to change), kTorn where a telescopic body
+  // is torn; null when the bodies have neither pins nor telescopic density.
+  const uint8_t* unsolved = nullptr;
   float lastStep = 0.0f;                      // the previous step, s (0 before the first)
   Eigen::Vector3f gravity{0.0f, 0.0f, 0.0f};  // g, m/s^2
 };
