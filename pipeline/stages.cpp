@@ -470,6 +470,16 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
                                   {"cap_hits", ss.divergenceCapHits},
                                   {"final_error", ss.lastDivergenceError},
                                   {"tolerance", 0.01 * scene.sim.fluid.maxDivergenceError}};
+    solver["torn_body_particles"] = {
+        {"steps", ss.tornSteps},
+        {"max_at_once", ss.maxTorn},
+        {"note", "telescopic body particles stretched until their rest density fell below a quarter of its "
+                 "initial value, left out of the solves' unknowns (docs/PHYSICS.md, Bodies under DFSPH)"}};
+    if (ss.tornSteps)
+      std::cerr << "kurage: warning: in " << ss.tornSteps << " of " << ss.steps << " steps (up to " << ss.maxTorn
+                << " at once) telescopic body particles were stretched below a quarter of their rest density and "
+                   "left out of the " << scene.sim.fluid.solver << " solver's unknowns; see run.json "
+                   "stages.sim.solver.torn_body_particles\n";
     if (ss.densityCapHits || ss.divergenceCapHits)
       std::cerr << "kurage: warning: the " << scene.sim.fluid.solver << " solver stopped at its iteration cap in "
                 << ss.densityCapHits << " density and " << ss.divergenceCapHits << " divergence solves of "

@@ -99,8 +99,9 @@ public:
   // the bodies' density leaves both out (sim/solvers/dfsph.h). After updateRestDensity.
   void markUnsolved(const ParticleSet& particles, double t, std::vector<uint8_t>& state) const;
   bool mayLeaveParticlesUnsolved() const { return hasPins() || telescopic_; }
-  // L^dens below which a telescopic body particle counts as torn off its body: stretched about
-  // 1.6 times in every direction. In membrane.json's sheet its own kernel's share of its density,
+  // L^dens below which a telescopic body particle counts as torn, stretched past what a solver of
+  // its density can hold: (8)'s mean r0/|r| over its springs below 0.63, 1.6 times in every
+  // direction for a uniform stretch. In membrane.json's sheet its own kernel's share of its density,
   // m W(0), is then above a third of its rest density (a tenth unstretched). Measured there under
   // DFSPH (docs/PHYSICS.md): at 1/8 the run still went non-finite, at 1/5 to 1/3 it completes.
   static constexpr float kTornDensityRatio = 0.25f;

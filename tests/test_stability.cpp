@@ -930,3 +930,29 @@ TEST(DfsphHardCases, ColumnDroppedOntoAPinnedMembrane) {
     }
   }
 }
+
+// membrane.json under DFSPH tears (Bodies under DFSPH, docs/PHYSICS.md): `kurage sim` finishes,
+// warns that torn particles were left out of the solves, and run.json counts the steps.
+TEST(DfsphHardCases, CliReportsTornBodyParticlesAndWarns) {
+  Budget budget;
+  test::TempDir dir;
+  nlohmann::json scene = nlohmann::json::parse(pipeline::readText(test::sourceDir() / "scenes/membrane.json"));
+  scene.erase("$schema");
+  scene["fluid"]["solver"] = "dfsph";
+  scene["fluid"]["initial_state"] = "hydrostatic";
+  scene["container"]["wall_density"] = "boundary_particles";
+  scene["output"]["fps"] = 2;  // the run as the scene's, fewer caches
+  const auto file = dir.path() / "scene.json";
+  pipeline::writeTextAtomic(file, scene.dump(2));
+  const auto out = dir.path() / "out";
+  const int code = test::runKurage("sim " + file.string() + " -o " + out.string(), dir.path() / "log.txt");
+  const std::string log = pipeline::readText(dir.path() / "log.txt");
+  ASSERT_EQ(code, 0) << log;
+  EXPECT_NE(log.find("left out of the dfsph solver's unknowns; see run.json"), std::string::npos) << log;
+  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  const nlohmann::json& torn = run["stages"]["sim"]["solver"]["torn_body_particles"];
+  EXPECT_GT(torn["steps"].get<int>(), 0);
+  EXPECT_GT(torn["max_at_once"].get<int>(), 0);
+  std::printf("membrane.json under DFSPH: torn particles in %d steps, up to %d at once\n", torn["steps"].get<int>(),
+              torn["max_at_once"].get<int>());
+}

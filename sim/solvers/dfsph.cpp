@@ -156,6 +156,11 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     }
   });
   ++stats_.steps;
+  if (c.unsolved) {
+    const auto torn = std::count(c.unsolved, c.unsolved + n, uint8_t(kTorn));
+    if (torn > 0) ++stats_.tornSteps;
+    stats_.maxTorn = std::max(stats_.maxTorn, int(torn));
+  }
   qSum_.assign(n, 0.0f);
   // Divergence solve on the current velocities (before the first step there is no step size for
   // the tolerance, and the fluid starts at rest).

@@ -47,7 +47,8 @@
 //   by its pinned neighbours grew step after step (8 MPa under 5 m of water) until it tore the
 //   loaded membrane of membrane.json apart (non-finite at t = 8.2 s).
 // - A telescopic body particle whose rest density (10) has fallen below a quarter of its initial
-//   one (BodySystem::kTornDensityRatio): torn off its body. With its volume m/rho0 grown that much,
+//   one (BodySystem::kTornDensityRatio; "torn", stretched past what the solves can hold; counted
+//   in SolverStats::tornSteps, and `kurage sim` warns). With its volume m/rho0 grown that much,
 //   its own kernel's share of its density, m_i W(0), approaches its rest density and it has few
 //   neighbours (D_i small), so no pressure brings it to rest density: its pressure grew without
 //   bound and flung it out at hundreds of m/s (the same membrane, once its rim was held, at
