@@ -870,6 +870,22 @@ TEST(DfsphHardCases, UnreachableToleranceHitsTheCapAndRunsOn) {
   EXPECT_EQ(s.maxDensityIterations, 3);
 }
 
+namespace {
+
+// `kurage sim` of a scene in `dir`: its output (stdout and stderr) and its run.json, null unless it
+// exited 0.
+std::pair<std::string, nlohmann::json> simThroughCli(const test::TempDir& dir, const nlohmann::json& scene) {
+  const auto file = dir.path() / "scene.json";
+  pipeline::writeTextAtomic(file, scene.dump(2));
+  const auto out = dir.path() / "out";
+  const int code = test::runKurage("sim " + file.string() + " -o " + out.string(), dir.path() / "log.txt");
+  const std::string log = pipeline::readText(dir.path() / "log.txt");
+  if (code != 0) return {log, nullptr};
+  return {log, nlohmann::json::parse(pipeline::readText(out / "run.json"))};
+}
+
+}  // namespace
+
 // The same, as a user meets it: `kurage sim` finishes (exit 0), warns on stderr naming the
 // settings, and run.json counts the capped solves.
 TEST(DfsphHardCases, CliReportsTheCapHitsInRunJsonAndWarns) {
@@ -881,15 +897,10 @@ TEST(DfsphHardCases, CliReportsTheCapHitsInRunJsonAndWarns) {
   scene["fluid"]["max_iterations"] = 3;
   scene["container"]["wall_density"] = "boundary_particles";
   scene["output"] = {{"duration", 0.5}, {"fps", 4}};
-  const auto file = dir.path() / "scene.json";
-  pipeline::writeTextAtomic(file, scene.dump(2));
-  const auto out = dir.path() / "out";
-  const int code = test::runKurage("sim " + file.string() + " -o " + out.string(), dir.path() / "log.txt");
-  const std::string log = pipeline::readText(dir.path() / "log.txt");
-  ASSERT_EQ(code, 0) << log;
+  const auto [log, run] = simThroughCli(dir, scene);
+  ASSERT_FALSE(run.is_null()) << log;
   EXPECT_NE(log.find("warning: the dfsph solver stopped at its iteration cap"), std::string::npos) << log;
   EXPECT_NE(log.find("fluid.max_iterations 3"), std::string::npos) << log;
-  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   const nlohmann::json& density = run["stages"]["sim"]["solver"]["density_solve"];
   EXPECT_EQ(density["cap"], 3);
   EXPECT_EQ(density["max_iterations"], 3);
@@ -942,14 +953,9 @@ TEST(DfsphHardCases, CliReportsTornBodyParticlesAndWarns) {
   scene["fluid"]["initial_state"] = "hydrostatic";
   scene["container"]["wall_density"] = "boundary_particles";
   scene["output"]["fps"] = 2;  // the run as the scene's, fewer caches
-  const auto file = dir.path() / "scene.json";
-  pipeline::writeTextAtomic(file, scene.dump(2));
-  const auto out = dir.path() / "out";
-  const int code = test::runKurage("sim " + file.string() + " -o " + out.string(), dir.path() / "log.txt");
-  const std::string log = pipeline::readText(dir.path() / "log.txt");
-  ASSERT_EQ(code, 0) << log;
+  const auto [log, run] = simThroughCli(dir, scene);
+  ASSERT_FALSE(run.is_null()) << log;
   EXPECT_NE(log.find("left out of the dfsph solver's unknowns; see run.json"), std::string::npos) << log;
-  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   const nlohmann::json& torn = run["stages"]["sim"]["solver"]["torn_body_particles"];
   EXPECT_GT(torn["steps"].get<int>(), 0);
   EXPECT_GT(torn["max_at_once"].get<int>(), 0);
