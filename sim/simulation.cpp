@@ -482,7 +482,7 @@ size_t Simulation::memoryBytes() const {
          (boundaryLift_.capacity() + correction_.capacity()) * sizeof(float) +
          order_.capacity() * sizeof(uint32_t) + (bodies_ ? bodies_->memoryBytes() : 0) + solver_->memoryBytes() +
          (boundaryVolume_.capacity() + boundaryGradient_.capacity()) * sizeof(float) +
-         (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0);
+         (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0) + unsolved_.capacity();
 }
 
 void Simulation::advanceTo(double t) {
