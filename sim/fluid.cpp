@@ -292,8 +292,10 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
-  const float* m = particles.mass.data();
-  const float* rho = particles.density.data();
+  std::vector<float> volume(n);  // V_j = m_j / rho_j, once a particle rather than once a pair
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
+    for (size_t i = range.begin(); i != range.end(); ++i) volume[i] = particles.mass[i] / particles.density[i];
+  });
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 512), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
       float* out = correction.data() + 6 * i;
@@ -301,7 +303,7 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
       out[3] = out[4] = out[5] = 0.0f;
       const Eigen::Vector3f p(x[i], y[i], z[i]);
       if (((p - box.min).array() < h).any() || ((box.max - p).array() < h).any()) continue;
-      Eigen::Matrix3f M = Eigen::Matrix3f::Zero();
+      float xx = 0.0f, yy = 0.0f, zz = 0.0f, xy = 0.0f, xz = 0.0f, yz = 0.0f;  // M is symmetric
       // The cubic spline's W'(r)/r as the density pass stored it (NeighborLists::slopes; 0 for
       // coincident particles); the spiky kernel's from r.
       const size_t chunk = i / NeighborLists::kChunk;
@@ -309,17 +311,21 @@ void computeGradientCorrection(const NeighborLists& neighbors, const ParticleSet
       const float* slope = kernel.cubic ? neighbors.slopes(chunk).data() + neighbors.offset(i) : nullptr;
       for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it) {
         const uint32_t j = *it;
-        const Eigen::Vector3f d(x[i] - x[j], y[i] - y[j], z[i] - z[j]);
+        const float dx = x[i] - x[j], dy = y[i] - y[j], dz = z[i] - z[j];
         float weight;  // V_j (-dW/dr / r)
         if (slope) {
-          weight = m[j] / rho[j] * -*slope++;
+          weight = volume[j] * -*slope++;
         } else {
-          const float r = d.norm();
+          const float r = std::sqrt(dx * dx + dy * dy + dz * dz);
           if (r <= 1e-6f * h) continue;
-          weight = m[j] / rho[j] * -kernel.spiky->derivative(r) / r;
+          weight = volume[j] * -kernel.spiky->derivative(r) / r;
         }
-        M += weight * (d * d.transpose());
+        const float wx = weight * dx, wy = weight * dy;
+        xx += wx * dx; yy += wy * dy; zz += weight * dz * dz;
+        xy += wx * dy; xz += wx * dz; yz += wy * dz;
       }
+      Eigen::Matrix3f M;
+      M << xx, xy, xz, xy, yy, yz, xz, yz, zz;
       if (!(M.determinant() > 0.25f)) continue;
       const Eigen::Matrix3f L = M.inverse();
       out[0] = L(0, 0); out[1] = L(1, 1); out[2] = L(2, 2);

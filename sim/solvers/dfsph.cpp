@@ -94,8 +94,15 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   });
   loadVelocities(p);
   corrected_ = c.gradientCorrection != nullptr;
+  if (corrected_ && n > 0) {
+    origin_ = position_[n / 2];  // any particle's: applyPressure's sums stay near the differences they form
+    origin_[3] = 0.0f;
+  }
   if (corrected_) {
     correctionRows_.resize(3 * n);
+    pushTerms_.resize(2 * n);
+    pushZ_.resize(n);
+    gradientSum_.resize(n);
     tbb::parallel_for(size_t(0), n, [&](size_t i) {
       const float* L = c.gradientCorrection + 6 * i;  // L00 L11 L22 L01 L02 L12 (fluid.h)
       correctionRows_[3 * i] = Float4{L[0], L[3], L[4], 0.0f};
@@ -128,16 +135,19 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
         // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
         // plain one (L_i = I within h of a wall).
         const Float4 x4 = position_[i];
-        Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
+        Float4 plain = {0.0f, 0.0f, 0.0f, 0.0f};
         for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
           const uint32_t j = *it;
           const Float4 d = *slope * (x4 - position_[j]);
           const Float4 grad = corrected(i, d);  // L_i grad W_ij (fourth lane 0)
           const float w = position_[j][3];
-          sum += w * grad;
+          plain += w * d;
           const Float4 g2 = grad * grad;
           S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * (g2[0] + g2[1] + g2[2]);
         }
+        plain[3] = 0.0f;
+        gradientSum_[i] = plain;  // sum_j w_j grad W_ij, the push's own term (applyPressure)
+        const Float4 sum = corrected(i, plain);
         F += Eigen::Vector3f(sum[0], sum[1], sum[2]);
       }
       const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
@@ -323,6 +333,16 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
   ParticleSet& p = c.particles;
   const size_t n = p.size();
   const Float4* x = position_.data();
+  if (corrected_)
+    forEach(n, [&](size_t j) {
+      // w_j k_j L_j as (L00, L11, L22) and (L01, L02, L12), and w_j k_j L_j (x_j - origin)
+      const float kw = k[j] * x[j][3];
+      const Float4* r = correctionRows_.data() + 3 * j;
+      const Float4 y = kw * corrected(j, x[j] - origin_);
+      pushTerms_[2 * j] = kw * Float4{r[0][0], r[1][1], r[2][2], r[0][1]};
+      pushTerms_[2 * j + 1] = Float4{kw * r[0][2], kw * r[1][2], y[0], y[1]};
+      pushZ_[j] = y[2];
+    });
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     const float* s0 = c.neighbors.slopes(ch).data();
@@ -338,16 +358,23 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
           a += (*sp * (xj[3] * (ki + k[j]))) * (xi - xj);  // w_j (k_i + k_j) grad W_ij, the scalars first
         }
       } else {
-        // w_j (k_i L_i + k_j L_j) grad W_ij: the transpose of the corrected density rate (header)
-        Float4 own = {0.0f, 0.0f, 0.0f, 0.0f};
+        // w_j (k_i L_i + k_j L_j) grad W_ij: the transpose of the corrected density rate (header).
+        // The neighbours' part, sum_j s_ij w_j k_j L_j (x_i - x_j) = M_i x_i - Y_i with
+        // M_i = sum_j s_ij (w_j k_j L_j) and Y_i = sum_j s_ij (w_j k_j L_j x_j): three packed
+        // multiply-adds a neighbour on pushTerms_ (positions from the solver's origin); the own
+        // part k_i L_i sum_j w_j grad W_ij from the step's gradient sums.
+        Float4 m0 = {0.0f, 0.0f, 0.0f, 0.0f}, m1 = m0;
+        float y2 = 0.0f;
         for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
-          const uint32_t j = *it;
-          const Float4 xj = x[j];
-          const Float4 d = (*sp * xj[3]) * (xi - xj);
-          own += d;
-          a += k[j] * corrected(j, d);
+          const Float4* t = pushTerms_.data() + 2 * size_t(*it);
+          const float s = *sp;
+          m0 += s * t[0]; m1 += s * t[1]; y2 += s * pushZ_[*it];
         }
-        a += ki * corrected(i, own);
+        // m0 = (M00, M11, M22, M01), m1 = (M02, M12, Y0, Y1), y2 = Y2
+        const Float4 xo = xi - origin_;
+        a = Float4{m0[0] * xo[0] + m0[3] * xo[1] + m1[0] * xo[2] - m1[2], m0[3] * xo[0] + m0[1] * xo[1] + m1[1] * xo[2] - m1[3],
+                   m1[0] * xo[0] + m1[1] * xo[1] + m0[2] * xo[2] - y2, 0.0f};
+        a += ki * corrected(i, gradientSum_[i]);
       }
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
@@ -465,7 +492,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity() + fixed_.capacity();
-  b += (scratch_.capacity() + correctionRows_.capacity()) * sizeof(Float4);
+  b += (scratch_.capacity() + correctionRows_.capacity() + gradientSum_.capacity() + pushTerms_.capacity()) * sizeof(Float4) + pushZ_.capacity() * sizeof(float);
   return b;
 }
 
