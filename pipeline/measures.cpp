@@ -135,7 +135,7 @@ double submergedFraction(const sim::ParticleSet& p, int kind, float fluidSpacing
 HydrostaticTrack::HydrostaticTrack(const sim::SimParams& params, double filledHeight)
     : l_(params.fluid.spacing), h_(params.fluid.supportRadiusMetres()), lo_(params.container.min),
       hi_(params.container.max), rho0g_(params.fluid.restDensity * params.gravity.norm()),
-      filledHeight_(filledHeight) {}
+      g_(params.gravity.norm()), filledHeight_(filledHeight) {}
 
 bool HydrostaticTrack::interior(const sim::ParticleSet& p, size_t i) const {
   return p.kind[i] == 0 && p.x[i] >= lo_.x() + h_ && p.x[i] <= hi_.x() - h_ && p.y[i] >= lo_.y() + h_ &&
@@ -160,6 +160,17 @@ void HydrostaticTrack::record(const sim::ParticleSet& p) {
   surfaceSum_ += surface;
   ++samples_;
   const double H = filledHeight_;
+  // The interior's particles by height, with the sums from the top (weightAbove)
+  interiorZ_.clear();
+  for (size_t i = 0; i < p.size(); ++i)
+    if (interior(p, i)) interiorZ_.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] * g_));
+  std::sort(interiorZ_.begin(), interiorZ_.end());
+  weightAbove_.assign(interiorZ_.size() + 1, 0.0);
+  momentAbove_.assign(interiorZ_.size() + 1, 0.0);
+  for (size_t k = interiorZ_.size(); k-- > 0;) {
+    weightAbove_[k] = weightAbove_[k + 1] + interiorZ_[k].second;
+    momentAbove_[k] = momentAbove_[k + 1] + double(interiorZ_[k].second) * interiorZ_[k].first;
+  }
   for (size_t i = 0; i < p.size(); ++i) {
     const float z = p.z[i] - lo_.z();
     const int k = int(std::floor(z / l_));  // slab [k l, (k + 1) l), wholly inside [2h, H - 2h]
@@ -170,7 +181,29 @@ void HydrostaticTrack::record(const sim::ParticleSet& p) {
     Slab& f = filled_[k];
     f.sum += p.pressure[i] / (rho0g_ * (H - z));
     ++f.count;
+    Carried& c = carried_[k];
+    c.pressure += p.pressure[i];
+    c.weight += weightAbove(z);
   }
+}
+
+double HydrostaticTrack::weightAbove(float z) const {
+  // Wholly above: centres above z + l/2; the fraction (z_j + l/2 - z) / l of those within l/2.
+  auto index = [&](float height) {
+    return size_t(std::lower_bound(interiorZ_.begin(), interiorZ_.end(), std::make_pair(height, -1.0f)) - interiorZ_.begin());
+  };
+  const size_t from = index(z - 0.5f * l_), to = index(z + 0.5f * l_);
+  const double window = weightAbove_[from] - weightAbove_[to], windowMoment = momentAbove_[from] - momentAbove_[to];
+  const double partial = (windowMoment + window * (0.5 * l_ - z)) / l_;
+  const double area = double(hi_.x() - lo_.x() - 2 * h_) * double(hi_.y() - lo_.y() - 2 * h_);
+  return (weightAbove_[to] + partial) / area;
+}
+
+double HydrostaticTrack::worstSlabAgainstWeight() const {
+  double w = 0.0;
+  for (const auto& [k, c] : carried_)
+    if (c.weight > 0.0) w = std::max(w, std::fabs(c.pressure / c.weight - 1.0));
+  return w;
 }
 
 double HydrostaticTrack::surfaceError() const {

@@ -114,7 +114,12 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 //   clear of the side walls by h, the mean height of the top particle, plus half a spacing;
 // - each interior slab's pressure over rho0 g (depth): slabs one spacing thick, wholly inside
 //   [2h, H - 2h] above the floor, clear of the side walls by h, their depth measured from the
-//   sample's free surface and, apart, from the filled height H.
+//   sample's free surface and, apart, from the filled height H;
+// - each slab's mean pressure against the mean weight of the water above its particles: for each,
+//   m g over the interior's floor area for each interior particle above it (one within half a
+//   spacing of it counting the fraction of a spacing-thick layer that lies above it: exact on a
+//   lattice, unbiased on a disordered packing). It reads 1 when the pressure carries the water
+//   that is there, wherever the surface stands and however close the water has packed.
 // Each record adds one sample; the slabs' ratios are averaged over every sample.
 class HydrostaticTrack {
 public:
@@ -130,6 +135,8 @@ public:
   // surface; and below the filled height.
   double worstSlab() const { return worst(slabs_); }
   double worstSlabBelowFilled() const { return worst(filled_); }
+  // The largest |mean pressure / mean weight of the water above - 1| over the slabs.
+  double worstSlabAgainstWeight() const;
 
 private:
   struct Slab {
@@ -141,10 +148,20 @@ private:
   bool interior(const sim::ParticleSet& p, size_t i) const;
   float l_, h_;  // spacing and support radius, m
   Eigen::Vector3f lo_, hi_;
-  double rho0g_;
+  double rho0g_, g_;
   double filledHeight_ = 0.0, surfaceSum_ = 0.0;
   int samples_ = 0;
   std::map<int, Slab> slabs_, filled_;
+  struct Carried {
+    double pressure = 0.0, weight = 0.0;  // sums over the slab's particles and samples
+  };
+  std::map<int, Carried> carried_;
+  // record's scratch: the interior particles' heights, sorted, and the sums from the top of m g
+  // and m g z
+  std::vector<std::pair<float, float>> interiorZ_;
+  std::vector<double> weightAbove_, momentAbove_;
+  // The weight of the interior water above height z (header), per unit floor area.
+  double weightAbove(float z) const;
 };
 
 // RMS speed of the particles of one kind (0 = fluid), m/s; 0 when there are none.

@@ -185,7 +185,7 @@ private:
     const double iterations =
         solver.steps ? double(solver.densityIterations + solver.divergenceIterations) / double(solver.steps) : 0.0;
     row.figures = {track.surfaceError(), rmsSpeed(sim.particles, 0), track.worstSlabBelowFilled(), double(track.slabs()),
-                   double(track.samples()), iterations};
+                   double(track.samples()), iterations, track.worstSlabAgainstWeight()};
     row.error = track.worstSlab();
   }
 

@@ -358,14 +358,25 @@ TEST(Measures, HydrostaticTrackReadsTheSlabsAndTheSurface) {
   EXPECT_EQ(still.slabs(), 2);  // [4, 5) and [5, 6): wholly inside [2h, H - 2h]
   EXPECT_NEAR(still.surfaceError(), 0.0, 1e-12);
   EXPECT_NEAR(still.worstSlab(), 0.0, 1e-6);
+  EXPECT_NEAR(still.worstSlabAgainstWeight(), 0.0, 1e-6) << "the pressure carries the water above it";
   HydrostaticTrack high(params, 10.0);
   high.record(tank(1.03f, 0.0f));
   EXPECT_NEAR(high.worstSlab(), 0.03, 1e-6);
+  EXPECT_NEAR(high.worstSlabAgainstWeight(), 0.03, 1e-6);
   HydrostaticTrack sunk(params, 10.0);
   sunk.record(tank(1.0f, 1.0f));
   EXPECT_NEAR(sunk.surfaceError(), 0.1, 1e-9);
   EXPECT_NEAR(sunk.worstSlab(), 0.0, 1e-6) << "the depth is measured from the sample's own surface";
   EXPECT_GT(sunk.worstSlabBelowFilled(), 0.1) << "and, apart, from the filled height";
+  EXPECT_NEAR(sunk.worstSlabAgainstWeight(), 0.0, 1e-6);
+  // Packed closer: the same water at 0.9 of the spacing from the floor up holds the same pressure
+  // per weight, which the depth below its surface (0.9 of the lattice's) reads 11 % high.
+  HydrostaticTrack packed(params, 10.0);
+  sim::ParticleSet dense = tank(1.0f, 0.0f);
+  for (size_t i = 0; i < dense.size(); ++i) dense.z[i] *= 0.9f;
+  packed.record(dense);
+  EXPECT_NEAR(packed.worstSlabAgainstWeight(), 0.0, 0.02) << "the pressure carries the water above it";
+  EXPECT_GT(packed.worstSlab(), 0.05);
   sim::ParticleSet moving = tank(1.0f, 0.0f);
   for (size_t i = 0; i < moving.size(); ++i) moving.vz[i] = i % 2 ? 2.0f : -2.0f;
   EXPECT_FLOAT_EQ(float(rmsSpeed(moving, 0)), 2.0f);

@@ -337,7 +337,8 @@ std::vector<std::string> studyFigureNames(StudyMeasure measure) {
     case StudyMeasure::RenderRmse: return {"total_mrays", "reference_seconds"};
     case StudyMeasure::DensityError: return {"max_density_error", "steps"};
     case StudyMeasure::HydrostaticTank:
-      return {"surface_error", "rms_speed", "worst_slab_below_filled", "slabs", "samples", "mean_iterations"};
+      return {"surface_error", "rms_speed", "worst_slab_below_filled", "slabs", "samples", "mean_iterations",
+              "worst_slab_against_weight"};
     case StudyMeasure::None: return {};
   }
   return {};
