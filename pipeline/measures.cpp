@@ -162,8 +162,14 @@ void HydrostaticTrack::record(const sim::ParticleSet& p) {
   const double H = filledHeight_;
   // The interior's particles by height, with the sums from the top (weightAbove)
   interiorZ_.clear();
+  // Columns over [lo + h, hi - h) in x and y, half-open so that a lattice whose rows fall on the
+  // edges puts exactly (hi - lo - 2h) / l rows over that width, whatever h / l.
+  auto column = [&](size_t i) {
+    return p.kind[i] == 0 && p.x[i] >= lo_.x() + h_ && p.x[i] < hi_.x() - h_ && p.y[i] >= lo_.y() + h_ &&
+           p.y[i] < hi_.y() - h_;
+  };
   for (size_t i = 0; i < p.size(); ++i)
-    if (interior(p, i)) interiorZ_.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] * g_));
+    if (column(i)) interiorZ_.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] * g_));
   std::sort(interiorZ_.begin(), interiorZ_.end());
   weightAbove_.assign(interiorZ_.size() + 1, 0.0);
   momentAbove_.assign(interiorZ_.size() + 1, 0.0);
@@ -196,7 +202,7 @@ double HydrostaticTrack::weightAbove(float z) const {
   const double window = weightAbove_[from] - weightAbove_[to], windowMoment = momentAbove_[from] - momentAbove_[to];
   const double partial = (windowMoment + window * (0.5 * l_ - z)) / l_;
   const double area = double(hi_.x() - lo_.x() - 2 * h_) * double(hi_.y() - lo_.y() - 2 * h_);
-  return (weightAbove_[to] + partial) / area;
+  return area > 0.0 ? (weightAbove_[to] + partial) / area : 0.0;
 }
 
 double HydrostaticTrack::worstSlabAgainstWeight() const {

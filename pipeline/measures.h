@@ -116,9 +116,10 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 //   [2h, H - 2h] above the floor, clear of the side walls by h, their depth measured from the
 //   sample's free surface and, apart, from the filled height H;
 // - each slab's mean pressure against the mean weight of the water above its particles: for each,
-//   m g over the interior's floor area for each interior particle above it (one within half a
-//   spacing of it counting the fraction of a spacing-thick layer that lies above it: exact on a
-//   lattice, unbiased on a disordered packing). It reads 1 when the pressure carries the water
+//   m g over the interior's floor area for each particle above it in the columns clear of the
+//   side walls by h (half-open, [lo + h, hi - h)), one within half a spacing of it counting the
+//   fraction of a spacing-thick layer that lies above it: exact on a lattice whose extent is a
+//   multiple of the spacing, unbiased on a disordered packing. It reads 1 when the pressure carries the water
 //   that is there, wherever the surface stands and however close the water has packed.
 // Each record adds one sample; the slabs' ratios are averaged over every sample.
 class HydrostaticTrack {

@@ -377,6 +377,12 @@ TEST(Measures, HydrostaticTrackReadsTheSlabsAndTheSurface) {
   packed.record(dense);
   EXPECT_NEAR(packed.worstSlabAgainstWeight(), 0.0, 0.02) << "the pressure carries the water above it";
   EXPECT_GT(packed.worstSlab(), 0.05);
+  // With h = 1.5 m the strip's edges fall on lattice rows: still exact (half-open columns).
+  params.fluid.supportRadius = 1.5f;
+  HydrostaticTrack narrow(params, 10.0);
+  narrow.record(tank(1.0f, 0.0f));
+  EXPECT_GT(narrow.slabs(), 0);
+  EXPECT_NEAR(narrow.worstSlabAgainstWeight(), 0.0, 1e-6);
   sim::ParticleSet moving = tank(1.0f, 0.0f);
   for (size_t i = 0; i < moving.size(); ++i) moving.vz[i] = i % 2 ? 2.0f : -2.0f;
   EXPECT_FLOAT_EQ(float(rmsSpeed(moving, 0)), 2.0f);
