@@ -135,11 +135,15 @@ double submergedFraction(const sim::ParticleSet& p, int kind, float fluidSpacing
 HydrostaticTrack::HydrostaticTrack(const sim::SimParams& params, double filledHeight)
     : l_(params.fluid.spacing), h_(params.fluid.supportRadiusMetres()), lo_(params.container.min),
       hi_(params.container.max), rho0g_(params.fluid.restDensity * params.gravity.norm()),
-      g_(params.gravity.norm()), filledHeight_(filledHeight) {}
+      g_(params.gravity.norm()),
+      area_(double(hi_.x() - lo_.x() - 2 * h_) * double(hi_.y() - lo_.y() - 2 * h_)),
+      filledHeight_(filledHeight) {}
 
 bool HydrostaticTrack::interior(const sim::ParticleSet& p, size_t i) const {
-  return p.kind[i] == 0 && p.x[i] >= lo_.x() + h_ && p.x[i] <= hi_.x() - h_ && p.y[i] >= lo_.y() + h_ &&
-         p.y[i] <= hi_.y() - h_;
+  // Half-open, [lo + h, hi - h): a lattice whose rows fall on the edges puts exactly
+  // (hi - lo - 2h) / l rows over that width, whatever h / l (weightAbove's floor area).
+  return p.kind[i] == 0 && p.x[i] >= lo_.x() + h_ && p.x[i] < hi_.x() - h_ && p.y[i] >= lo_.y() + h_ &&
+         p.y[i] < hi_.y() - h_;
 }
 
 double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
@@ -162,14 +166,8 @@ void HydrostaticTrack::record(const sim::ParticleSet& p) {
   const double H = filledHeight_;
   // The interior's particles by height, with the sums from the top (weightAbove)
   interiorZ_.clear();
-  // Columns over [lo + h, hi - h) in x and y, half-open so that a lattice whose rows fall on the
-  // edges puts exactly (hi - lo - 2h) / l rows over that width, whatever h / l.
-  auto column = [&](size_t i) {
-    return p.kind[i] == 0 && p.x[i] >= lo_.x() + h_ && p.x[i] < hi_.x() - h_ && p.y[i] >= lo_.y() + h_ &&
-           p.y[i] < hi_.y() - h_;
-  };
   for (size_t i = 0; i < p.size(); ++i)
-    if (column(i)) interiorZ_.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] * g_));
+    if (interior(p, i)) interiorZ_.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] * g_));
   std::sort(interiorZ_.begin(), interiorZ_.end());
   weightAbove_.assign(interiorZ_.size() + 1, 0.0);
   momentAbove_.assign(interiorZ_.size() + 1, 0.0);
@@ -201,8 +199,7 @@ double HydrostaticTrack::weightAbove(float z) const {
   const size_t from = index(z - 0.5f * l_), to = index(z + 0.5f * l_);
   const double window = weightAbove_[from] - weightAbove_[to], windowMoment = momentAbove_[from] - momentAbove_[to];
   const double partial = (windowMoment + window * (0.5 * l_ - z)) / l_;
-  const double area = double(hi_.x() - lo_.x() - 2 * h_) * double(hi_.y() - lo_.y() - 2 * h_);
-  return area > 0.0 ? (weightAbove_[to] + partial) / area : 0.0;
+  return area_ > 0.0 ? (weightAbove_[to] + partial) / area_ : 0.0;
 }
 
 double HydrostaticTrack::worstSlabAgainstWeight() const {

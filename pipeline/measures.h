@@ -116,8 +116,8 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 //   [2h, H - 2h] above the floor, clear of the side walls by h, their depth measured from the
 //   sample's free surface and, apart, from the filled height H;
 // - each slab's mean pressure against the mean weight of the water above its particles: for each,
-//   m g over the interior's floor area for each particle above it in the columns clear of the
-//   side walls by h (half-open, [lo + h, hi - h)), one within half a spacing of it counting the
+//   m g over the interior's floor area for each interior particle above it (the columns clear of
+//   the side walls by h, half-open: [lo + h, hi - h)), one within half a spacing of it counting the
 //   fraction of a spacing-thick layer that lies above it: exact on a lattice whose extent is a
 //   multiple of the spacing, unbiased on a disordered packing. It reads 1 when the pressure carries the water
 //   that is there, wherever the surface stands and however close the water has packed.
@@ -150,6 +150,7 @@ private:
   float l_, h_;  // spacing and support radius, m
   Eigen::Vector3f lo_, hi_;
   double rho0g_, g_;
+  double area_;  // the interior's floor area, clear of the side walls by h
   double filledHeight_ = 0.0, surfaceSum_ = 0.0;
   int samples_ = 0;
   std::map<int, Slab> slabs_, filled_;

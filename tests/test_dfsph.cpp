@@ -148,8 +148,9 @@ TEST(WallWeights, GiveDfsphTheTermsBoundaryParticlesGive) {
 //   rho0 g (20 m - z), the surface 0.05 m low): not met;
 // - DFSPH with fluid.gradient_correction (the discrete gradient's first moment, 0.986 at 1 m, no
 //   longer scales the pressure): surface 0.28 % / 0.04 %, slabs 1.72 % / 2.37 % (0.86 % / 1.85 %
-//   and 0.88 % / 2.19 % before changes of rounding only: single runs are chaotic, and the 0.5 m
-//   case sampled four ways reads 2.37-3.23 %, so it is asserted at 3.5 %: not the issue's 2 %);
+//   and 0.88 % / 2.19 % before changes of rounding only: single runs are chaotic, by up to 2.8
+//   points between runs a thousandth of a step apart (study hydrostatic_tank_scatter: 2.19-4.37 %
+//   at 0.5 m), so the 0.5 m case is asserted at 3.5 %, a guard and not the issue's 2 %);
 // - WCSPH (k = 20000, walls of boundary particles energy-consistent, docs/PHYSICS.md "Walls under
 //   WCSPH") with the gradient correction: surface 0.30 % / 0.54 %, slabs 2.18 % / 1.31 % (without
 //   it 2.64 % / 5.59 %).
@@ -290,9 +291,7 @@ TEST(Dfsph, TheSolvesConserveMomentumWithAndWithoutTheGradientCorrection) {
     }
     sim.advanceTo(0.2);
     Eigen::Vector3d after = Eigen::Vector3d::Zero();
-    double change = 0.0;  // how much the solves changed the velocities: sum of m |dv|, roughly
     for (size_t i = 0; i < s.size(); ++i) after += double(s.mass[i]) * Eigen::Vector3d(s.vx[i], s.vy[i], s.vz[i]);
-    change = std::fabs(after.norm() - momentum.norm());
     const SolverStats& stats = sim.solver().stats();
     std::printf("%s: %llu steps, %.2f density iterations a step; momentum (%.1f %.1f %.1f) -> (%.1f %.1f %.1f) kg m/s, "
                 "sum m|v| %.0f\n",
@@ -301,7 +300,7 @@ TEST(Dfsph, TheSolvesConserveMomentumWithAndWithoutTheGradientCorrection) {
                 after.x(), after.y(), after.z(), scale);
     ASSERT_GT(stats.steps, 3u);
     ASSERT_GT(stats.densityIterations, 0u) << "the squeeze must call on the pressure";
-    EXPECT_LT((after - momentum).norm(), 1e-6 * scale) << (corrected ? "corrected" : "plain") << ", change " << change;
+    EXPECT_LT((after - momentum).norm(), 1e-6 * scale) << (corrected ? "corrected" : "plain");
   }
 }
 
