@@ -134,7 +134,7 @@ double submergedFraction(const sim::ParticleSet& p, int kind, float fluidSpacing
 
 HydrostaticTrack::HydrostaticTrack(const sim::SimParams& params, double filledHeight)
     : l_(params.fluid.spacing), h_(params.fluid.supportRadiusMetres()), lo_(params.container.min),
-      hi_(params.container.max), rho0g_(params.fluid.restDensity * params.gravity.norm()),
+      hi_(params.container.max), rho0_(params.fluid.restDensity), rho0g_(params.fluid.restDensity * params.gravity.norm()),
       g_(params.gravity.norm()),
       area_(double(hi_.x() - lo_.x() - 2 * h_) * double(hi_.y() - lo_.y() - 2 * h_)),
       filledHeight_(filledHeight) {}
@@ -146,17 +146,50 @@ bool HydrostaticTrack::interior(const sim::ParticleSet& p, size_t i) const {
          p.y[i] < hi_.y() - h_;
 }
 
+namespace {
+// The cubic spline kernel of support h integrated over a plane at distance s from its centre:
+// 2 pi int_{|s|}^{h} r W(r) dr = (16 / h) F(|s| / h), F(q) = int_q^1 t f(t) dt with
+// W = 8 / (pi h^3) f(r / h). It integrates to 1 over s, and on a lattice of layers l = h / 2
+// apart sums to exactly 1 / l at a point midway between two layers.
+double projectedCubicSpline(double s, double h) {
+  const double q = std::fabs(s) / h;
+  if (q >= 1.0) return 0.0;
+  const double t = 1.0 - q;
+  const double F = q >= 0.5 ? 0.5 * t * t * t * t - 0.4 * t * t * t * t * t
+                            : 0.0875 - q * q * (0.5 - q * q * (1.5 - 1.2 * q));
+  return 16.0 / h * F;
+}
+}  // namespace
+
 double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
-  std::map<std::pair<int, int>, float> top;
-  for (size_t i = 0; i < p.size(); ++i) {
-    if (!interior(p, i)) continue;
-    const auto key = std::make_pair(int(std::floor(p.x[i] / l_)), int(std::floor(p.y[i] / l_)));
-    auto [it, inserted] = top.emplace(key, p.z[i]);
-    if (!inserted) it->second = std::max(it->second, p.z[i]);
+  // The level where the interior's colour field, averaged over its floor area, is one half:
+  // c(z) = sum_j V_j Wbar(z - z_j) / area over the interior particles, V_j = m_j / rho0, Wbar
+  // the cubic spline (support h) integrated over a horizontal plane (header).
+  std::vector<std::pair<float, float>> column;  // (height above the floor, V_j / area)
+  for (size_t i = 0; i < p.size(); ++i)
+    if (interior(p, i)) column.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] / rho0_ / area_));
+  if (column.empty() || !(area_ > 0.0)) return 0.0;
+  std::sort(column.begin(), column.end());
+  const auto colour = [&](double z) {
+    double c = 0.0;
+    for (auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(float(z - h_), -1.0f));
+         it != column.end() && it->first < z + h_; ++it)
+      c += it->second * projectedCubicSpline(z - it->first, h_);
+    return c;
+  };
+  // Down from above the highest particle, where the field vanishes, in steps of a quarter
+  // spacing to the first height where it reaches one half; then bisection.
+  double above = column.back().first + h_, below = above;
+  while (colour(below) < 0.5) {
+    above = below;
+    below -= 0.25 * l_;
+    if (below < -h_) return 0.0;
   }
-  double sum = 0.0;
-  for (const auto& [key, z] : top) sum += z;
-  return top.empty() ? 0.0 : sum / double(top.size()) + 0.5 * l_ - lo_.z();
+  for (int k = 0; k < 50 && above - below > 1e-9 * l_; ++k) {
+    const double mid = 0.5 * (above + below);
+    (colour(mid) < 0.5 ? above : below) = mid;
+  }
+  return 0.5 * (above + below);
 }
 
 void HydrostaticTrack::record(const sim::ParticleSet& p) {

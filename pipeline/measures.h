@@ -110,8 +110,14 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 
 // Samples a tank of fluid (kind 0) filled to `filledHeight` above the container's floor, meant to
 // stand still (tests/test_dfsph.cpp's HydrostaticTank, the hydrostatic_tank study):
-// - the free surface: over the columns one spacing wide (cells of the x-y grid anchored at 0)
-//   clear of the side walls by h, the mean height of the top particle, plus half a spacing;
+// - the free surface: the height at which the colour field of the interior's particles (clear of
+//   the side walls by h), averaged over the interior's floor area, is one half:
+//   c(z) = sum_j (m_j / rho0) Wbar(z - z_j) / area, Wbar the cubic spline of support h integrated
+//   over a horizontal plane. The water's volume per floor area, read where it ends: exact on a
+//   lattice (its top layer plus half a spacing), and unchanged when the particles move sideways,
+//   so a disordered top layer reads where its water is. (The mean over columns one spacing wide of
+//   the top particle, used before, read such a layer low: a column that its top layer's particles
+//   have left reads a layer down, tests/test_study.cpp);
 // - each interior slab's pressure over rho0 g (depth): slabs one spacing thick, wholly inside
 //   [2h, H - 2h] above the floor, clear of the side walls by h, their depth measured from the
 //   sample's free surface and, apart, from the filled height H;
@@ -149,7 +155,7 @@ private:
   bool interior(const sim::ParticleSet& p, size_t i) const;
   float l_, h_;  // spacing and support radius, m
   Eigen::Vector3f lo_, hi_;
-  double rho0g_, g_;
+  double rho0_, rho0g_, g_;
   double area_;  // the interior's floor area, clear of the side walls by h
   double filledHeight_ = 0.0, surfaceSum_ = 0.0;
   int samples_ = 0;
