@@ -113,8 +113,9 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 // - the free surface: the height at which the colour field of the interior's particles (clear of
 //   the side walls by h), averaged over the interior's floor area, is one half:
 //   c(z) = sum_j (m_j / rho0) Wbar(z - z_j) / area, Wbar the cubic spline of support h integrated
-//   over a horizontal plane. The water's volume per floor area, read where it ends: exact on a
-//   lattice (its top layer plus half a spacing), and unchanged when the particles move sideways,
+//   over a horizontal plane. The water's volume per floor area, read where it ends: on a lattice
+//   at h = 2 l exactly its top layer plus half a spacing (0.454 l at h = 1.5 l), and unchanged
+//   when the particles move sideways,
 //   so a disordered top layer reads where its water is. (The mean over columns one spacing wide of
 //   the top particle, used before, read such a layer low: a column that its top layer's particles
 //   have left reads a layer down, tests/test_study.cpp);
