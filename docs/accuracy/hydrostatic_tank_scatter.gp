@@ -73,7 +73,7 @@ $series10 << EOD
 61.4944 0.02 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "study.png"
+set output "hydrostatic_tank_scatter.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "setting = 1 m" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "setting = 1 m, corrected" noenhanced, \
@@ -90,15 +90,15 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "se
      $series6 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series7 using 1:2 with linespoints lc 8 lw 2 pt 7 ps 1 axes x1y1 title "setting = 0.5 m, calm corrected" noenhanced, \
      $series7 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series8 using 1:2 with linespoints lc 9 lw 2 pt 7 ps 1 axes x1y1 title "setting = 1 m, wcsph" noenhanced, \
+     $series8 using 1:2 with linespoints lc 9 lw 2 pt 5 ps 1 axes x1y1 title "setting = 1 m, wcsph" noenhanced, \
      $series8 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series9 using 1:2 with linespoints lc 10 lw 2 pt 7 ps 1 axes x1y1 title "setting = 0.5 m, wcsph" noenhanced, \
+     $series9 using 1:2 with linespoints lc 10 lw 2 pt 5 ps 1 axes x1y1 title "setting = 0.5 m, wcsph" noenhanced, \
      $series9 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series10 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.02" noenhanced
+     $series10 using 1:2 with lines lc rgb "#808080" lw 1 pt 5 ps 1 axes x1y1 title "accepted error 0.02" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "study.svg"
+set output "hydrostatic_tank_scatter.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "study.pdf"
+set output "hydrostatic_tank_scatter.pdf"
 replot
 unset output

@@ -122,8 +122,12 @@ std::string gnuplotScript(const Plot& plot, const PlotOutputs& outputs) {
     const std::string axes = series.axis == 1 ? " axes x1y2" : " axes x1y1";
     const std::string colour = std::isfinite(series.colour.x()) ? " lc rgb \"" + colourHex(series.colour) + "\"" : " lc " + std::to_string(k + 1);
     const char* style = series.lines && series.markers ? "linespoints" : series.markers ? "points" : "lines";
+    // gnuplot's default colours repeat after eight: each round of them gets its own filled marker
+    // (circle, square, triangle, diamond), so that no two series look alike.
+    static constexpr int kMarkers[] = {7, 5, 9, 13};
+    const int marker = kMarkers[(k / 8) % 4];
     plotCommand << (first ? "" : ", \\\n     ") << "$series" << k << " using 1:2 with " << style << colour << " lw "
-                << number(series.lineWidth) << " pt 7 ps " << number(series.markerSize) << axes << " title "
+                << number(series.lineWidth) << " pt " << marker << " ps " << number(series.markerSize) << axes << " title "
                 << (series.label.empty() ? "\"\"" : gnuplotString(series.label)) << " noenhanced";
     first = false;
     bool labelled = false;
