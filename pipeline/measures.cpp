@@ -161,21 +161,31 @@ double projectedCubicSpline(double s, double h) {
 }
 }  // namespace
 
+void HydrostaticTrack::sortInterior(const sim::ParticleSet& p, std::vector<std::pair<float, float>>& out) const {
+  out.clear();
+  for (size_t i = 0; i < p.size(); ++i)
+    if (interior(p, i)) out.emplace_back(p.z[i] - lo_.z(), p.mass[i]);
+  std::sort(out.begin(), out.end());
+}
+
 double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
+  std::vector<std::pair<float, float>> column;
+  sortInterior(p, column);
+  return surfaceOf(column);
+}
+
+double HydrostaticTrack::surfaceOf(const std::vector<std::pair<float, float>>& column) const {
   // The level where the interior's colour field, averaged over its floor area, is one half:
   // c(z) = sum_j V_j Wbar(z - z_j) / area over the interior particles, V_j = m_j / rho0, Wbar
   // the cubic spline (support h) integrated over a horizontal plane (header).
-  std::vector<std::pair<float, float>> column;  // (height above the floor, V_j / area)
-  for (size_t i = 0; i < p.size(); ++i)
-    if (interior(p, i)) column.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] / rho0_ / area_));
   if (column.empty() || !(area_ > 0.0)) return 0.0;
-  std::sort(column.begin(), column.end());
+  const double perMass = 1.0 / (rho0_ * area_);
   const auto colour = [&](double z) {
     double c = 0.0;
     for (auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(float(z - h_), -1.0f));
          it != column.end() && it->first < z + h_; ++it)
       c += it->second * projectedCubicSpline(z - it->first, h_);
-    return c;
+    return c * perMass;
   };
   // Down from above the highest particle, where the field vanishes, in steps of a quarter
   // spacing to the first height where it reaches one half; then bisection.
@@ -193,20 +203,19 @@ double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
 }
 
 void HydrostaticTrack::record(const sim::ParticleSet& p) {
-  const double surface = freeSurface(p);
+  // The interior's particles by height, once a sample: the surface and the sums from the top
+  // (weightAbove)
+  sortInterior(p, interiorZ_);
+  const double surface = surfaceOf(interiorZ_);
   surfaceSum_ += surface;
   ++samples_;
   const double H = filledHeight_;
-  // The interior's particles by height, with the sums from the top (weightAbove)
-  interiorZ_.clear();
-  for (size_t i = 0; i < p.size(); ++i)
-    if (interior(p, i)) interiorZ_.emplace_back(p.z[i] - lo_.z(), float(p.mass[i] * g_));
-  std::sort(interiorZ_.begin(), interiorZ_.end());
   weightAbove_.assign(interiorZ_.size() + 1, 0.0);
   momentAbove_.assign(interiorZ_.size() + 1, 0.0);
   for (size_t k = interiorZ_.size(); k-- > 0;) {
-    weightAbove_[k] = weightAbove_[k + 1] + interiorZ_[k].second;
-    momentAbove_[k] = momentAbove_[k + 1] + double(interiorZ_[k].second) * interiorZ_[k].first;
+    const double weight = double(interiorZ_[k].second) * g_;
+    weightAbove_[k] = weightAbove_[k + 1] + weight;
+    momentAbove_[k] = momentAbove_[k + 1] + weight * interiorZ_[k].first;
   }
   for (size_t i = 0; i < p.size(); ++i) {
     const float z = p.z[i] - lo_.z();

@@ -165,7 +165,11 @@ private:
     double pressure = 0.0, weight = 0.0;  // sums over the slab's particles and samples
   };
   std::map<int, Carried> carried_;
-  // record's scratch: the interior particles' heights, sorted, and the sums from the top of m g
+  // The interior's particles as (height above the floor, mass), sorted by height.
+  void sortInterior(const sim::ParticleSet& p, std::vector<std::pair<float, float>>& out) const;
+  // The free surface (header) of the interior's particles so sorted.
+  double surfaceOf(const std::vector<std::pair<float, float>>& column) const;
+  // record's scratch: the interior particles (sortInterior), and the sums from the top of m g
   // and m g z
   std::vector<std::pair<float, float>> interiorZ_;
   std::vector<double> weightAbove_, momentAbove_;
