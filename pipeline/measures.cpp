@@ -217,12 +217,23 @@ void HydrostaticTrack::record(const sim::ParticleSet& p) {
     weightAbove_[k] = weightAbove_[k + 1] + weight;
     momentAbove_[k] = momentAbove_[k + 1] + weight * interiorZ_[k].first;
   }
+  // Inside [2h, H - 2h]: a layer [k l, (k + 1) l) or a slab [2 k l, 2 (k + 1) l) wholly inside.
+  auto inside = [&](int k, float thickness) {
+    return k * thickness >= 2 * h_ - 1e-3f * l_ && (k + 1) * thickness <= H - 2 * h_ + 1e-3f * l_;
+  };
   for (size_t i = 0; i < p.size(); ++i) {
+    if (!interior(p, i)) continue;
     const float z = p.z[i] - lo_.z();
-    const int k = int(std::floor(z / l_));  // slab [k l, (k + 1) l), wholly inside [2h, H - 2h]
-    if (!interior(p, i) || k * l_ < 2 * h_ || (k + 1) * l_ > H - 2 * h_ + 1e-3 * l_) continue;
+    const double depth = surface - z;
+    const int layer = int(std::floor(z / l_)), k = int(std::floor(z / (2 * l_)));
+    if (inside(layer, l_)) {
+      Slab& s = layers_[layer];
+      s.sum += p.pressure[i] / (rho0g_ * depth);
+      ++s.count;
+    }
+    if (!inside(k, 2 * l_)) continue;
     Slab& s = slabs_[k];
-    s.sum += p.pressure[i] / (rho0g_ * (surface - z));
+    s.sum += p.pressure[i] / (rho0g_ * depth);
     ++s.count;
     Slab& f = filled_[k];
     f.sum += p.pressure[i] / (rho0g_ * (H - z));

@@ -119,9 +119,15 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 //   so a disordered top layer reads where its water is. (The mean over columns one spacing wide of
 //   the top particle, used before, read such a layer low: a column that its top layer's particles
 //   have left reads a layer down, tests/test_study.cpp);
-// - each interior slab's pressure over rho0 g (depth): slabs one spacing thick, wholly inside
+// - each interior slab's pressure over rho0 g (depth): slabs two spacings thick, wholly inside
 //   [2h, H - 2h] above the floor, clear of the side walls by h, their depth measured from the
-//   sample's free surface and, apart, from the filled height H;
+//   sample's free surface and, apart, from the filled height H. Two spacings, because the
+//   symmetric pressure force on a lattice layer k reads p_{k+1} - p_{k-1} only (at h = 2 l a
+//   neighbour two layers away sits at h, where the kernel's gradient is zero): a pressure alternating
+//   from layer to layer pushes nothing, so no solve corrects it, and a slab one spacing thick
+//   reads it (a calm DFSPH tank's top layers alternate by +-1-2 %, docs/PHYSICS.md "Slabs two
+//   spacings thick"). A slab of two layers holds one of each and reads the pressure that acts.
+//   The one-spacing layers are kept apart (worstLayer);
 // - each slab's mean pressure against the mean weight of the water above its particles: for each,
 //   m g over the interior's floor area for each interior particle above it (the columns clear of
 //   the side walls by h, half-open: [lo + h, hi - h)), one within half a spacing of it counting the
@@ -143,6 +149,9 @@ public:
   // surface; and below the filled height.
   double worstSlab() const { return worst(slabs_); }
   double worstSlabBelowFilled() const { return worst(filled_); }
+  // The same as worstSlab over layers one spacing thick, which a pressure alternating from layer
+  // to layer (the force's blind spot, above) moves.
+  double worstLayer() const { return worst(layers_); }
   // The largest |mean pressure / mean weight of the water above - 1| over the slabs.
   double worstSlabAgainstWeight() const;
 
@@ -160,7 +169,7 @@ private:
   double area_;  // the interior's floor area, clear of the side walls by h
   double filledHeight_ = 0.0, surfaceSum_ = 0.0;
   int samples_ = 0;
-  std::map<int, Slab> slabs_, filled_;
+  std::map<int, Slab> slabs_, filled_, layers_;
   struct Carried {
     double pressure = 0.0, weight = 0.0;  // sums over the slab's particles and samples
   };

@@ -185,7 +185,7 @@ private:
     const double iterations =
         solver.steps ? double(solver.densityIterations + solver.divergenceIterations) / double(solver.steps) : 0.0;
     row.figures = {track.surfaceError(), rmsSpeed(sim.particles, 0), track.worstSlabBelowFilled(), double(track.slabs()),
-                   double(track.samples()), iterations, track.worstSlabAgainstWeight()};
+                   double(track.samples()), iterations, track.worstSlabAgainstWeight(), track.worstLayer()};
     row.error = track.worstSlab();
   }
 
@@ -371,7 +371,7 @@ std::string errorUnit(StudyMeasure m) {
     case StudyMeasure::SurfaceDistance: return "mean distance from the exact surface (m)";
     case StudyMeasure::RenderRmse: return "RMSE vs reference (sRGB)";
     case StudyMeasure::DensityError: return "mean compression of the fluid over the run, fraction of rho0";
-    case StudyMeasure::HydrostaticTank: return "worst interior slab's |p / (rho0 g depth) - 1|, averaged over the samples";
+    case StudyMeasure::HydrostaticTank: return "worst interior slab's |p / (rho0 g depth) - 1|, slabs two spacings thick, averaged over the samples";
     case StudyMeasure::None: return "";
   }
   return "";

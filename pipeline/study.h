@@ -34,10 +34,11 @@
 //       particles of max(rho - rho0, 0) / rho0, averaged over the steps; the largest step's value
 //       is a figure): what a pressure solver's stiffness or tolerance buys. Times the simulation.
 //   hydrostatic_tank  a still tank filled to fluid_blocks[0]'s top: the worst interior slab's
-//       |p / (rho0 g depth) - 1|, averaged over the samples from `average_from` every
-//       `sample_interval`; figures: the free surface's error against the filled height, the RMS
-//       speed at the end, the slabs against the filled height, and the solver's iterations a step.
-//       Times the simulation.
+//       |p / (rho0 g depth) - 1|, slabs two spacings thick (HydrostaticTrack), averaged over the
+//       samples from `average_from` every `sample_interval`; figures: the free surface's error
+//       against the filled height, the RMS speed at the end, the slabs against the filled height,
+//       the solver's iterations a step, the slabs against the weight of the water above, and the
+//       worst layer one spacing thick. Times the simulation.
 //   none  no error: timing only (what switching an effect off saves). Times the simulation.
 #pragma once
 

@@ -5,6 +5,7 @@
 #include "pipeline/measures.h"
 #include "pipeline/study.h"
 #include "render/image.h"
+#include "sim/kernels.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -355,10 +356,38 @@ TEST(Measures, HydrostaticTrackReadsTheSlabsAndTheSurface) {
   still.record(tank(1.0f, 0.0f));
   EXPECT_NEAR(still.freeSurface(tank(1.0f, 0.0f)), 10.0, 1e-6);
   EXPECT_EQ(still.samples(), 1);
-  EXPECT_EQ(still.slabs(), 2);  // [4, 5) and [5, 6): wholly inside [2h, H - 2h]
+  EXPECT_EQ(still.slabs(), 1);  // [4, 6), two spacings thick: wholly inside [2h, H - 2h]
   EXPECT_NEAR(still.surfaceError(), 0.0, 1e-8);
   EXPECT_NEAR(still.worstSlab(), 0.0, 1e-6);
   EXPECT_NEAR(still.worstSlabAgainstWeight(), 0.0, 1e-6) << "the pressure carries the water above it";
+  EXPECT_NEAR(still.worstLayer(), 0.0, 1e-6);
+  // A pressure alternating from layer to layer pushes nothing at h = 2 l: the symmetric force on
+  // a lattice particle, sum_j (p_i + p_j) grad W_ij, reads p_{k+1} - p_{k-1} only. So no solve
+  // sees it, and the slabs (two layers) do not read it either: a pressure 2 % over the depth's in
+  // odd layers and 2 % under in even ones reads no error on slabs and 2 % on one-spacing layers.
+  {
+    const sim::CubicSplineKernel w(2.0f);
+    auto force = [&](auto pressure) {  // on the particle at (5.5, 5.5, 5.5), lattice neighbours
+      Eigen::Vector3d f = Eigen::Vector3d::Zero();
+      for (int dz = -2; dz <= 2; ++dz)
+        for (int dy = -2; dy <= 2; ++dy)
+          for (int dx = -2; dx <= 2; ++dx) {
+            const Eigen::Vector3d d(dx, dy, dz);
+            if (d.norm() == 0.0 || d.norm() >= 2.0) continue;
+            f += (pressure(5) + pressure(5 + dz)) * double(w.derivative(float(d.norm()))) * d / d.norm();
+          }
+      return f;
+    };
+    EXPECT_LT(force([](int k) { return k % 2 ? 1.0 : -1.0; }).norm(), 1e-9) << "a pure alternation pushes nothing";
+    EXPECT_GT(force([](int k) { return 1.0 * (10 - k); }).norm(), 0.1) << "a gradient pushes";
+  }
+  sim::ParticleSet alternating = tank(1.0f, 0.0f);
+  for (size_t i = 0; i < alternating.size(); ++i)
+    alternating.pressure[i] *= int(std::floor(alternating.z[i])) % 2 ? 1.02f : 0.98f;
+  HydrostaticTrack layered(params, 10.0);
+  layered.record(alternating);
+  EXPECT_NEAR(layered.worstSlab(), 0.0, 1e-3) << "a slab holds one layer of each sign";
+  EXPECT_NEAR(layered.worstLayer(), 0.02, 1e-6);
   HydrostaticTrack high(params, 10.0);
   high.record(tank(1.03f, 0.0f));
   EXPECT_NEAR(high.worstSlab(), 0.03, 1e-6);

@@ -338,7 +338,7 @@ std::vector<std::string> studyFigureNames(StudyMeasure measure) {
     case StudyMeasure::DensityError: return {"max_density_error", "steps"};
     case StudyMeasure::HydrostaticTank:
       return {"surface_error", "rms_speed", "worst_slab_below_filled", "slabs", "samples", "mean_iterations",
-              "worst_slab_against_weight"};
+              "worst_slab_against_weight", "worst_layer"};
     case StudyMeasure::None: return {};
   }
   return {};
