@@ -1,7 +1,7 @@
 # kurage figure: `gnuplot THIS_FILE` redraws the PNG, SVG and PDF beside it.
 set encoding utf8
 reset
-set title "hydrostatic_tank: worst interior slab's |p / (rho0 g depth) - 1|, averaged over the samples" noenhanced
+set title "hydrostatic_tank: worst interior slab's |p / (rho0 g depth) - 1|, slabs two spacings thick, averaged over the\nsamples" noenhanced
 set xlabel "seconds (simulation)" noenhanced
 set ylabel "worst slab pressure error" noenhanced
 set logscale y
@@ -33,7 +33,7 @@ $series5 << EOD
 6.88955 0.02 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "study.png"
+set output "hydrostatic_tank.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "dfsph" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, divergence cg" noenhanced, \
@@ -46,9 +46,9 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "df
      $series4 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series5 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.02" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "study.svg"
+set output "hydrostatic_tank.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "study.pdf"
+set output "hydrostatic_tank.pdf"
 replot
 unset output

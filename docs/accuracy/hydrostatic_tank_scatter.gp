@@ -1,7 +1,7 @@
 # kurage figure: `gnuplot THIS_FILE` redraws the PNG, SVG and PDF beside it.
 set encoding utf8
 reset
-set title "hydrostatic_tank_scatter: worst interior slab's |p / (rho0 g depth) - 1|, averaged over the samples" noenhanced
+set title "hydrostatic_tank_scatter: worst interior slab's |p / (rho0 g depth) - 1|, slabs two spacings thick, averaged\nover the samples" noenhanced
 set xlabel "seconds (simulation)" noenhanced
 set logscale x
 set ylabel "worst slab pressure error" noenhanced
@@ -74,7 +74,7 @@ $series10 << EOD
 59.1127 0.02 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "study.png"
+set output "hydrostatic_tank_scatter.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "setting = 1 m" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "setting = 1 m, corrected" noenhanced, \
@@ -97,9 +97,9 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "se
      $series9 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series10 using 1:2 with lines lc rgb "#808080" lw 1 pt 5 ps 1 axes x1y1 title "accepted error 0.02" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "study.svg"
+set output "hydrostatic_tank_scatter.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "study.pdf"
+set output "hydrostatic_tank_scatter.pdf"
 replot
 unset output
