@@ -122,12 +122,13 @@ MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float flu
 // - each interior slab's pressure over rho0 g (depth): slabs two spacings thick, wholly inside
 //   [2h, H - 2h] above the floor, clear of the side walls by h, their depth measured from the
 //   sample's free surface and, apart, from the filled height H. Two spacings, because the
-//   symmetric pressure force on a lattice layer k reads p_{k+1} - p_{k-1} only (at h = 2 l a
-//   neighbour two layers away sits at h, where the kernel's gradient is zero): a pressure alternating
-//   from layer to layer pushes nothing, so no solve corrects it, and a slab one spacing thick
-//   reads it (a calm DFSPH tank's top layers alternate by +-1-2 %, docs/PHYSICS.md "Slabs two
-//   spacings thick"). A slab of two layers holds one of each and reads the pressure that acts.
-//   The one-spacing layers are kept apart (worstLayer);
+//   symmetric pressure force on a lattice layer k reads differences p_{k+m} - p_{k-m} of layers
+//   as far above as below, which have the same parity: a pressure alternating from layer to
+//   layer pushes nothing, so the solves do not correct it (in the bulk), and a slab one spacing
+//   thick reads it (a calm DFSPH tank's top layers alternate by +-1-2 %, docs/PHYSICS.md "Slabs
+//   two spacings thick"). A slab of two layers holds one of each and reads the pressure that
+//   acts. The one-spacing layers are kept apart (worstLayer; the slabs are aligned to the floor,
+//   so at h = 1.5 l they start at 4 l and the layers at 3 l, and a layer may lie in no slab);
 // - each slab's mean pressure against the mean weight of the water above its particles: for each,
 //   m g over the interior's floor area for each interior particle above it (the columns clear of
 //   the side walls by h, half-open: [lo + h, hi - h)), one within half a spacing of it counting the
