@@ -142,8 +142,9 @@ TEST(WallWeights, GiveDfsphTheTermsBoundaryParticlesGive) {
 // over its floor, is one half) is compared with the filled height (20 m), each slab's pressure
 // with rho0 g times its depth below the free surface of the same sample (the filled height would
 // count the surface's settling twice: a surface 0.1 m low is 4 % of a slab 2.5 m deep). Slabs are
-// two spacings thick: the pressure force on a lattice layer reads only its neighbours' layers, so
-// a pressure alternating from layer to layer pushes nothing and no solve corrects it; a slab of
+// two spacings thick: the pressure force on a lattice layer reads differences of the layers as far
+// above it as below, which share a parity, so a pressure alternating from layer to layer pushes
+// nothing and no solve corrects it (in the bulk); a slab of
 // two layers reads the pressure that acts (docs/PHYSICS.md "Slabs two spacings thick"; the
 // one-spacing layers are printed). DFSPH's pressure is what both of its solves applied (the
 // density solve's and the divergence solve's impulse over the step). The issue asks for the
