@@ -10,40 +10,55 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-5.33157 0.000956068 "wcsph c12"
-6.191 0.000700353 "wcsph c14"
-6.89984 0.000538494 "wcsph c16"
-8.36428 0.000344301 "wcsph c20"
-15.8116 8.65284e-05 "wcsph c40"
-29.7614 2.07458e-05 "wcsph c80"
-54.8346 4.72218e-06 "wcsph c160"
+5.4417 0.000956068 "wcsph c12"
+6.25144 0.000700353 "wcsph c14"
+6.97817 0.000538494 "wcsph c16"
+8.60188 0.000344301 "wcsph c20"
+16.3226 8.65284e-05 "wcsph c40"
+30.8895 2.07458e-05 "wcsph c80"
+56.8961 4.72218e-06 "wcsph c160"
 EOD
 $series1 << EOD
-5.61326 0.000991004 "wcsph c12 bp"
-6.48517 0.000727072 "wcsph c14 bp"
-7.30323 0.000558531 "wcsph c16 bp"
-9.04471 0.000358631 "wcsph c20 bp"
-17.153 8.99286e-05 "wcsph c40 bp"
-33.6148 2.24717e-05 "wcsph c80 bp"
+5.95363 0.000991004 "wcsph c12 bp"
+6.8934 0.000727072 "wcsph c14 bp"
+7.88737 0.000558531 "wcsph c16 bp"
+9.54747 0.000358631 "wcsph c20 bp"
+18.1851 8.99286e-05 "wcsph c40 bp"
+35.2512 2.24717e-05 "wcsph c80 bp"
 EOD
 $series2 << EOD
-2.01678 0.000688618 "dfsph 1%"
-1.97873 0.000674264 "dfsph 0.3%"
-2.04161 0.000516611 "dfsph 0.1%"
-2.55193 0.000380714 "dfsph 0.03%"
+2.17764 0.000953893 "wcsph c12 cfl1"
 EOD
 $series3 << EOD
-1.62029 0.000782258 "dfsph 1% ww"
-1.70841 0.000624561 "dfsph 0.1% ww"
+2.51013 0.000985112 "wcsph c12 bp cfl1"
+2.836 0.000730354 "wcsph c14 bp cfl1"
 EOD
 $series4 << EOD
-1.92339 0.000571295 "1%"
-2.06044 0.000482223 "0.1%"
-2.55152 0.000375419 "0.03%"
+2.14877 0.000688618 "dfsph 1%"
+2.14881 0.000674264 "dfsph 0.3%"
+2.23014 0.000516611 "dfsph 0.1%"
+2.77509 0.000380714 "dfsph 0.03%"
 EOD
 $series5 << EOD
-1.62029 0.001 ""
-54.8346 0.001 ""
+1.43274 0.001237 "dfsph 0.3% step 0.8"
+1.5942 0.000893569 "dfsph 0.1% step 0.8"
+1.97964 0.000728924 "dfsph 0.03% step 0.8"
+EOD
+$series6 << EOD
+1.35054 0.00146653 "dfsph 0.1% step 1"
+EOD
+$series7 << EOD
+1.76404 0.000782258 "dfsph 1% ww"
+1.79533 0.000624561 "dfsph 0.1% ww"
+EOD
+$series8 << EOD
+2.07897 0.000571295 "1%"
+2.24716 0.000482223 "0.1%"
+2.76293 0.000375419 "0.03%"
+EOD
+$series9 << EOD
+1.35054 0.001 ""
+56.8961 0.001 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"
@@ -51,13 +66,21 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "wc
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "wcsph, boundary particles" noenhanced, \
      $series1 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series2 using 1:2 with linespoints lc 3 lw 2 pt 7 ps 1 axes x1y1 title "dfsph (jacobi)" noenhanced, \
+     $series2 using 1:2 with linespoints lc 3 lw 2 pt 7 ps 1 axes x1y1 title "wcsph, wall weights, cfl 1" noenhanced, \
      $series2 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series3 using 1:2 with linespoints lc 4 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, wall weights" noenhanced, \
+     $series3 using 1:2 with linespoints lc 4 lw 2 pt 7 ps 1 axes x1y1 title "wcsph, boundary particles, cfl 1" noenhanced, \
      $series3 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series4 using 1:2 with linespoints lc 5 lw 2 pt 7 ps 1 axes x1y1 title "dfsph cg" noenhanced, \
+     $series4 using 1:2 with linespoints lc 5 lw 2 pt 7 ps 1 axes x1y1 title "dfsph (jacobi)" noenhanced, \
      $series4 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series5 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.001" noenhanced
+     $series5 using 1:2 with linespoints lc 6 lw 2 pt 7 ps 1 axes x1y1 title "dfsph (jacobi), cfl and pressure factor 0.8" noenhanced, \
+     $series5 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series6 using 1:2 with linespoints lc 7 lw 2 pt 7 ps 1 axes x1y1 title "dfsph (jacobi), cfl and pressure factor 1" noenhanced, \
+     $series6 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series7 using 1:2 with linespoints lc 8 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, wall weights" noenhanced, \
+     $series7 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series8 using 1:2 with linespoints lc 9 lw 2 pt 5 ps 1 axes x1y1 title "dfsph cg" noenhanced, \
+     $series8 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series9 using 1:2 with lines lc rgb "#808080" lw 1 pt 5 ps 1 axes x1y1 title "accepted error 0.001" noenhanced
 set terminal svg size 900,560 font "sans,11"
 set output "study.svg"
 replot
