@@ -9,7 +9,11 @@
 // only (its cubic spline kernel needs the larger support), with its mean iterations per step;
 // `dfsph-cg` (in `all` too) the same with the divergence solve by conjugate gradients, `dfsph-gc`
 // (not in `all`) with fluid.gradient_correction (Bonet & Lok's corrected kernel gradient). Every row
-// also reports simulated seconds per wall second and the measured mean compression.
+// also reports simulated seconds per wall second and the measured mean compression. `--cfl` and
+// `--pressure-factor` set time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each, as in
+// scenes), since the largest step a solver can take is part of its cost; `--warmup-time` warms up
+// to a simulated time instead of a step count, so that solvers stepping differently are timed from
+// the same moment of the collapse.
 #include "pipeline/cli.h"
 #include "sim/simulation.h"
 
@@ -23,7 +27,15 @@ namespace kurage::pipeline {
 
 namespace {
 
-sim::SimParams damBreak(int particles, float supportRadius, const std::string& solver, float soundScale) {
+// The step settings of a run (scenes' defaults unless given).
+struct StepSettings {
+  float soundScale = 1.0f;       // WCSPH's c over 10 sqrt(2 g H)
+  float cfl = 0.4f;              // time_step.cfl
+  float pressureFactor = 0.4f;   // time_step.pressure_factor (incompressible solvers)
+  double warmupTime = -1.0;      // s: warm up to this simulated time instead of `warmup` steps
+};
+
+sim::SimParams damBreak(int particles, float supportRadius, const std::string& solver, const StepSettings& settings) {
   // Column nx x ny x nz with nz = 1.6 nx, ny = nx.
   const int nx = std::max(2, int(std::round(std::cbrt(particles / 1.6))));
   const int nz = std::max(2, int(std::round(particles / double(nx * nx))));
@@ -31,8 +43,10 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   p.fluid.supportRadius = supportRadius;
   // A liquid, not the paper's gas-like fluid: c = 10 sqrt(2 g H) (docs/PHYSICS.md), times
   // --sound-speed-scale.
-  const float c = soundScale * 10.0f * std::sqrt(2.0f * 6.0f * nz);
+  const float c = settings.soundScale * 10.0f * std::sqrt(2.0f * 6.0f * nz);
   p.fluid.pressureStiffness = c * c;
+  p.timeStep.cflFactor = settings.cfl;
+  p.timeStep.pressureFactor = settings.pressureFactor;
   p.container.min = Eigen::Vector3f(0, 0, 0);
   p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
@@ -51,6 +65,7 @@ struct BenchRun {
   double iterations = 0;         // DFSPH: density + divergence iterations per step
   double divergenceIterations = 0;  // of which divergence
   double simulatedPerWall = 0;   // simulated seconds per wall-clock second
+  double timedFrom = 0;          // simulated time at which the timed steps start, s
   double densityError = 0;       // mean compression over the timed steps (fraction)
   size_t particles = 0;
   float hOverSpacing = 0;
@@ -63,10 +78,13 @@ struct BenchRun {
 };
 
 BenchRun measure(int particles, float h, int threads, int warmup, int steps, const std::string& solver,
-                 float soundScale) {
+                 const StepSettings& settings) {
   ThreadLimit limit(threads);
-  sim::Simulation simulation(damBreak(particles, h, solver, soundScale));
-  for (int i = 0; i < warmup; ++i) simulation.step(simulation.nextStepLimit().step);
+  sim::Simulation simulation(damBreak(particles, h, solver, settings));
+  if (settings.warmupTime >= 0.0)
+    while (simulation.time() < settings.warmupTime) simulation.step(simulation.nextStepLimit().step);
+  else
+    for (int i = 0; i < warmup; ++i) simulation.step(simulation.nextStepLimit().step);
   const sim::SimStats before = simulation.stats();
   const sim::SolverStats solverBefore = simulation.solver().stats();
   const double timeBefore = simulation.time();
@@ -86,6 +104,7 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
                         ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
   r.divergenceIterations = double(ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
   r.simulatedPerWall = (simulation.time() - timeBefore) / seconds;
+  r.timedFrom = timeBefore;
   r.densityError = (simulation.stats().densityErrorSum - before.densityErrorSum) / steps;
   r.particles = simulation.particles().size();
   r.hOverSpacing = h;
@@ -104,7 +123,8 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
 int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
-                "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|all] [--sound-speed-scale F] [--json]\n\n"
+                "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|all] [--sound-speed-scale F]\n"
+                "                        [--cfl F] [--pressure-factor F] [--warmup-time S] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
                 "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
@@ -112,7 +132,10 @@ int benchSim(ArgParser& args) {
                 "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients), dfsph-gc (not in\n"
                 "all) with fluid.gradient_correction (the corrected kernel gradient).\n"
                 "--sound-speed-scale F: WCSPH's speed of sound F times the default 10 sqrt(2 g H) (its\n"
-                "compression falls as 1/F^2, its step as 1/F; with --warmup 600 the density%% column shows it).\n");
+                "compression falls as 1/F^2, its step as 1/F; with --warmup 600 the density%% column shows it).\n"
+                "--cfl F, --pressure-factor F: time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each).\n"
+                "--warmup-time S: warm up to S simulated seconds instead of --warmup steps (the JSON's\n"
+                "timed_from_s says where timing began), to time solvers from the same moment.\n");
     return 0;
   }
   const bool json = args.flag({"--json"});
@@ -125,6 +148,17 @@ int benchSim(ArgParser& args) {
   const std::string solverChoice = args.option({"--solver"}).value_or("all");
   const double soundScale = args.doubleOption({"--sound-speed-scale"}).value_or(1.0);
   if (!(soundScale >= 0.1 && soundScale <= 100.0)) args.fail("--sound-speed-scale must be in [0.1, 100]");
+  StepSettings settings;
+  settings.soundScale = float(soundScale);
+  settings.cfl = float(args.doubleOption({"--cfl"}).value_or(0.4));
+  if (!(settings.cfl >= 0.01f && settings.cfl <= 2.0f)) args.fail("--cfl must be in [0.01, 2]");
+  settings.pressureFactor = float(args.doubleOption({"--pressure-factor"}).value_or(0.4));
+  if (!(settings.pressureFactor >= 0.01f && settings.pressureFactor <= 4.0f))
+    args.fail("--pressure-factor must be in [0.01, 4]");
+  if (auto t = args.doubleOption({"--warmup-time"})) {
+    if (!(*t >= 0.0 && *t <= 1000.0)) args.fail("--warmup-time must be in [0, 1000] s");
+    settings.warmupTime = *t;
+  }
   std::vector<std::string> solvers;
   if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
   else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg" || solverChoice == "dfsph-gc")
@@ -133,7 +167,9 @@ int benchSim(ArgParser& args) {
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
-                        {"warmup_steps", warmup}, {"timed_steps", steps}, {"sound_speed_scale", soundScale}, {"runs", nlohmann::json::array()}};
+                        {"warmup_steps", warmup}, {"timed_steps", steps}, {"sound_speed_scale", soundScale}, {"cfl", settings.cfl},
+                        {"pressure_factor", settings.pressureFactor}, {"warmup_time_s", settings.warmupTime},
+                        {"runs", nlohmann::json::array()}};
   if (!json)
     std::printf("%8s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",
                 "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "div", "sim s/s",
@@ -143,12 +179,13 @@ int benchSim(ArgParser& args) {
     for (float h : {1.5f, 2.0f})
       for (int threads : threadCounts) {
         if (solver != "wcsph" && h < 2.0f) continue;
-        const BenchRun r = measure(count, h, threads, warmup, steps, solver, float(soundScale));
+        const BenchRun r = measure(count, h, threads, warmup, steps, solver, settings);
         nlohmann::json stages = nlohmann::json::object();
         for (size_t s = 0; s < r.stageMs.size(); ++s) stages[std::string(sim::stageName(sim::Stage(s)))] = r.stageMs[s];
         out["runs"].push_back({{"solver", r.solver}, {"iterations_per_step", r.iterations},
                                {"divergence_iterations_per_step", r.divergenceIterations},
                                {"simulated_s_per_wall_s", r.simulatedPerWall}, {"mean_density_error", r.densityError},
+                               {"timed_from_s", r.timedFrom},
                                {"particles", r.particles}, {"h_over_spacing", r.hOverSpacing}, {"threads", r.threads},
                                {"mean_neighbours", r.meanNeighbours}, {"ms_per_step", r.msPerStep},
                                {"ms_per_step_by_stage", stages},
