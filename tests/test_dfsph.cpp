@@ -257,7 +257,7 @@ TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
     }
     std::printf("%s: hydrostatic start, free surface moved at most %.3f m in 1 s (depth %.2f m)\n", solver.c_str(),
                 worst, start);
-    EXPECT_LT(worst, 0.01 * start) << solver;  // measured 0.033 m (dfsph), 0.060 m (wcsph)
+    EXPECT_LT(worst, 0.01 * start) << solver;  // measured 0.033 m (dfsph), 0.062 m (wcsph)
   }
 }
 
