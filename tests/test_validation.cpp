@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 using namespace kurage::sim;
@@ -193,6 +194,7 @@ TEST(Hydrostatic, PressureMatchesRhoGDepthWithin5PercentOfRhoGH) {
     ++checked;
   }
   EXPECT_GE(checked, 7);
+  std::printf("hydrostatic column: worst slab %.1f %% of rho g H off rho g depth (%d slabs)\n", 100.0 * worst, checked);
   RecordProperty("worst_error_over_rho_g_H", std::to_string(worst));
 }
 
@@ -201,6 +203,7 @@ TEST(Hydrostatic, UncorrectedConsistentFormSlope) {
   // neighbourhood: the slope is about 1.1 rho g (docs/PHYSICS.md). The paper's form gives 2.
   Simulation sim(waterColumn(PressureForce::Monaghan1992, WallDensity::WallWeight));
   const double ratio = interiorPressureGradient(sim);
+  std::printf("consistent form, no gradient correction: interior dp/dz = %.2f rho g\n", ratio);
   RecordProperty("gradient_over_rho_g", std::to_string(ratio));
   EXPECT_NEAR(ratio, 1.0, 0.2);
 }
@@ -210,6 +213,7 @@ TEST(Hydrostatic, PapersPressureForceCarriesTwiceThePressure) {
   // dp/dz is about 2 rho g: the paper's fluid behaves as if k_press were halved.
   Simulation sim(waterColumn(PressureForce::Mueller2003, WallDensity::WallWeight));
   const double ratio = interiorPressureGradient(sim);
+  std::printf("the paper's pressure force (5): interior dp/dz = %.2f rho g\n", ratio);
   RecordProperty("gradient_over_rho_g", std::to_string(ratio));
   EXPECT_GT(ratio, 1.6);
   EXPECT_LT(ratio, 2.8);
