@@ -10,31 +10,31 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-59.4647 0.000284103 "0.375"
-7.45143 0.0118687 "0.5"
-1.02584 0.05 "0.75"
-0.708817 0.0198653 "1.0"
+34.4555 0.000284103 "0.375"
+3.92598 0.0118687 "0.5"
+0.446731 0.05 "0.75"
+0.338051 0.0198653 "1.0"
 EOD
 $series1 << EOD
-8.34623 0.0430135 "0.5"
-3.83148 0.0551136 "0.75"
-3.20659 0.0670034 "1.0"
+4.3687 0.0430135 "0.5"
+1.68828 0.0551136 "0.75"
+1.39805 0.0670034 "1.0"
 EOD
 $series2 << EOD
-3.84633 0.0180135 "0.5"
-1.74334 0.0323864 "0.75"
-1.47801 0.0333333 "1.0"
+2.18772 0.0180135 "0.5"
+0.838799 0.0323864 "0.75"
+0.700498 0.0333333 "1.0"
 EOD
 $series3 << EOD
-0.889631 0.0423295 "0.75"
-0.693377 0.0703704 "1.0"
+0.428732 0.0423295 "0.75"
+0.360722 0.0703704 "1.0"
 EOD
 $series4 << EOD
-0.693377 0.05 ""
-59.4647 0.05 ""
+0.338051 0.05 ""
+34.4555 0.05 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "buoyancy.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "step = adaptive" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "step = fixed 4 ms" noenhanced, \
@@ -45,9 +45,9 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "st
      $series3 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series4 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.05" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "buoyancy.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "buoyancy.pdf"
+set output "study.pdf"
 replot
 unset output

@@ -8,27 +8,27 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-48.8766 0.0678861 "0.1"
-25.9913 0.0676437 "0.2"
-16.364 0.0679985 "0.3"
-13.2085 0.0674926 "0.4"
-9.24657 0.0684149 "0.6"
-5.8866 0.0691138 "0.8"
-5.04859 0.0699254 "1.0"
+24.7015 0.0678861 "0.1"
+12.3785 0.0676437 "0.2"
+8.26156 0.0679985 "0.3"
+6.35975 0.0674926 "0.4"
+4.37083 0.0684149 "0.6"
+3.29406 0.0691138 "0.8"
+2.67239 0.0699254 "1.0"
 EOD
 $series1 << EOD
-5.04859 0.1 ""
-48.8766 0.1 ""
+2.67239 0.1 ""
+24.7015 0.1 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "dam_break_cfl.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "cfl" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.1" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "dam_break_cfl.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "dam_break_cfl.pdf"
+set output "study.pdf"
 replot
 unset output

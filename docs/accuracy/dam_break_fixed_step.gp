@@ -8,25 +8,25 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-46.7796 0.067363 "2.5e-05"
-25.2223 0.0679415 "5e-05"
-13.9294 0.0676921 "0.0001"
-9.17802 0.0683017 "0.00015"
-6.94843 0.068874 "0.0002"
+26.6761 0.067363 "2.5e-05"
+13.693 0.0679415 "5e-05"
+6.87504 0.0676921 "0.0001"
+4.5637 0.0683017 "0.00015"
+3.52678 0.068874 "0.0002"
 EOD
 $series1 << EOD
-6.94843 0.1 ""
-46.7796 0.1 ""
+3.52678 0.1 ""
+26.6761 0.1 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "dam_break_fixed_step.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "fixed step (s)" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.1" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "dam_break_fixed_step.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "dam_break_fixed_step.pdf"
+set output "study.pdf"
 replot
 unset output

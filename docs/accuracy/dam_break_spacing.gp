@@ -10,34 +10,34 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-1.08039 0.0509565 "10"
-4.42029 0.0380425 "15"
-12.5255 0.038983 "20"
-24.2882 0.0400927 "25"
-44.8825 0.0384797 "30"
+0.658354 0.0509565 "10"
+2.54611 0.0380425 "15"
+6.4825 0.038983 "20"
+12.8616 0.0400927 "25"
+22.3813 0.0384797 "30"
 EOD
 $series1 << EOD
-1.35168 1.63893 "10"
-5.4571 1.75257 "15"
-13.5761 1.91022 "20"
-27.0721 2.08968 "25"
-46.4114 2.25122 "30"
+0.761963 1.63893 "10"
+2.82829 1.75257 "15"
+6.92151 1.91022 "20"
+13.9458 2.08968 "25"
+24.2512 2.25122 "30"
 EOD
 $series2 << EOD
-1.08039 0.1 ""
-46.4114 0.1 ""
+0.658354 0.1 ""
+24.2512 0.1 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "dam_break_spacing.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "walls = free_slip" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "walls = no_slip" noenhanced, \
      $series1 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series2 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.1" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "dam_break_spacing.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "dam_break_spacing.pdf"
+set output "study.pdf"
 replot
 unset output

@@ -10,42 +10,37 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-1 0.547646 "implicit"
-2 128.404 "explicit"
+1 0.265903 "implicit"
+2 59.3374 "explicit"
 EOD
 $series1 << EOD
-0.88 0.1525 ""
-1.88 43.0748 ""
+0.88 0.0493923 ""
+1.88 14.6998 ""
 EOD
 $series2 << EOD
-0.84 0.0483795 ""
-1.84 15.9302 ""
+0.84 0.034152 ""
+1.84 11.2676 ""
 EOD
 $series3 << EOD
-0.8 0.0955259 ""
-1.8 26.4753 ""
+0.8 0.0489457 ""
+1.8 16.1383 ""
 EOD
 $series4 << EOD
-0.76 0.200623 ""
-1.76 30.1597 ""
-EOD
-$series5 << EOD
-0.72 0.0336907 ""
-1.72 9.4504 ""
+0.76 0.120162 ""
+1.76 13.7336 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "effects_box_damper.png"
+set output "study.png"
 plot $series0 using 1:2 with points lc 1 lw 2 pt 7 ps 1.4 axes x1y1 title "total" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with points lc 2 lw 2 pt 7 ps 0.8 axes x1y1 title "density" noenhanced, \
      $series2 using 1:2 with points lc 3 lw 2 pt 7 ps 0.8 axes x1y1 title "telescopic_density" noenhanced, \
      $series3 using 1:2 with points lc 4 lw 2 pt 7 ps 0.8 axes x1y1 title "pressure_viscosity_forces" noenhanced, \
-     $series4 using 1:2 with points lc 5 lw 2 pt 7 ps 0.8 axes x1y1 title "springs" noenhanced, \
-     $series5 using 1:2 with points lc 6 lw 2 pt 7 ps 0.8 axes x1y1 title "collisions" noenhanced
+     $series4 using 1:2 with points lc 5 lw 2 pt 7 ps 0.8 axes x1y1 title "springs" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "effects_box_damper.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "effects_box_damper.pdf"
+set output "study.pdf"
 replot
 unset output

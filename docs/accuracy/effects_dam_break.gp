@@ -10,25 +10,25 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-1 0.494848 "as the scene"
-2 0.488278 "viscosity 0"
-3 0.5274 "wall weights added"
-4 0.492689 "monaghan1992"
-5 0.57072 "monaghan1992 + gradient correction"
+1 0.347449 "as the scene"
+2 0.353386 "viscosity 0"
+3 0.381893 "wall weights added"
+4 0.351544 "monaghan1992"
+5 0.417197 "monaghan1992 + gradient correction"
 EOD
 $series1 << EOD
-0.88 0.380936 ""
-1.88 0.37654 ""
-2.88 0.395608 ""
-3.88 0.375662 ""
-4.88 0.376242 ""
+0.88 0.241218 ""
+1.88 0.247418 ""
+2.88 0.258023 ""
+3.88 0.240664 ""
+4.88 0.237864 ""
 EOD
 $series2 << EOD
-0.84 0.079542 ""
-1.84 0.0754401 ""
-2.84 0.0944898 ""
-3.84 0.0835679 ""
-4.84 0.160353 ""
+0.84 0.0748087 ""
+1.84 0.0715543 ""
+2.84 0.0885567 ""
+3.84 0.0795843 ""
+4.84 0.148145 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"

@@ -9,31 +9,31 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-1.50575 0.46626 "1%"
-1.85356 0.0218046 "0.1%"
-4.26258 0.0120689 "0.01%"
+1.41137 0.46626 "1%"
+1.58047 0.0218046 "0.1%"
+3.47788 0.0120689 "0.01%"
 EOD
 $series1 << EOD
-1.79005 0.0082276 "0.01%"
+1.47176 0.0082276 "0.01%"
 EOD
 $series2 << EOD
-1.99466 0.0400586 "0.1%"
-4.46087 0.00490816 "0.01%"
+1.83104 0.0400586 "0.1%"
+4.10184 0.00490816 "0.01%"
 EOD
 $series3 << EOD
-2.86289 0.0175943 "k20000"
-5.72356 0.0112293 "k80000"
+2.58825 0.0175943 "k20000"
+5.1885 0.0112293 "k80000"
 EOD
 $series4 << EOD
-3.41225 0.0111064 "k20000"
-6.88955 0.00992768 "k80000"
+3.15895 0.0111064 "k20000"
+6.23888 0.00992768 "k80000"
 EOD
 $series5 << EOD
-1.50575 0.02 ""
-6.88955 0.02 ""
+1.41137 0.02 ""
+6.23888 0.02 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "hydrostatic_tank.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "dfsph" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, divergence cg" noenhanced, \
@@ -46,9 +46,9 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "df
      $series4 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series5 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.02" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "hydrostatic_tank.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "hydrostatic_tank.pdf"
+set output "study.pdf"
 replot
 unset output

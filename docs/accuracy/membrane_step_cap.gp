@@ -8,29 +8,29 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-5.55011 8 "adaptive"
-18.3134 7 "fixed 2 ms"
-7.93931 10 "fixed 5 ms"
-3.60285 5 "fixed 10 ms"
+3.70457 8 "adaptive"
+11.1117 7 "fixed 2 ms"
+4.41631 10 "fixed 5 ms"
+2.24819 5 "fixed 10 ms"
 EOD
 $series1 << EOD
-6.21537 8 "adaptive"
-16.315 4 "fixed 2 ms"
-6.40207 5 "fixed 5 ms"
-3.14679 4 "fixed 10 ms"
+3.78588 8 "adaptive"
+11.3299 4 "fixed 2 ms"
+4.47963 5 "fixed 5 ms"
+2.25313 4 "fixed 10 ms"
 EOD
 $series2 << EOD
-5.31971 8 "adaptive"
-16.5526 5 "fixed 2 ms"
-6.30676 10 "fixed 5 ms"
-3.23413 4 "fixed 10 ms"
+3.7775 8 "adaptive"
+11.3101 5 "fixed 2 ms"
+4.4798 10 "fixed 5 ms"
+2.21387 4 "fixed 10 ms"
 EOD
 $series3 << EOD
-3.14679 0 ""
-18.3134 0 ""
+2.21387 0 ""
+11.3299 0 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "membrane_step_cap.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "collision cap = 1" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "collision cap = 4" noenhanced, \
@@ -39,9 +39,9 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "co
      $series2 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series3 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "membrane_step_cap.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "membrane_step_cap.pdf"
+set output "study.pdf"
 replot
 unset output

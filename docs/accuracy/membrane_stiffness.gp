@@ -8,31 +8,31 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-3.29378 20 "2000"
-5.36647 8 "6000"
-18.5084 0 "20000"
+2.27992 20 "2000"
+3.7706 8 "6000"
+11.2845 0 "20000"
 EOD
 $series1 << EOD
-2.47598 80 "2000"
-3.96411 79 "6000"
-6.83744 79 "20000"
+1.64161 80 "2000"
+2.65757 79 "6000"
+4.41877 79 "20000"
 EOD
 $series2 << EOD
-5.15156 39 "2000"
-9.7349 14 "6000"
-19.8583 0 "20000"
+3.30238 39 "2000"
+6.01084 14 "6000"
+12.3951 0 "20000"
 EOD
 $series3 << EOD
-2.24427 85 "2000"
-3.90141 85 "6000"
-6.42914 85 "20000"
+1.4874 85 "2000"
+2.40118 85 "6000"
+4.09657 85 "20000"
 EOD
 $series4 << EOD
-2.24427 0 ""
-19.8583 0 ""
+1.4874 0 ""
+12.3951 0 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "membrane_stiffness.png"
+set output "study.png"
 plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "membrane = telescopic, k 100" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "membrane = conventional, k 100" noenhanced, \
@@ -43,9 +43,9 @@ plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "me
      $series3 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
      $series4 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "membrane_stiffness.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "membrane_stiffness.pdf"
+set output "study.pdf"
 replot
 unset output
