@@ -18,7 +18,8 @@ namespace {
 // to out and their r^2 (its bits) to d2 from index `found`, without a branch: every candidate is
 // written and the count advances only for a neighbour. Returns the new count. Four candidates at
 // a time where SSE is available: their r^2 in one register (the same operations in the same order
-// as the scalar loop, so the same floats), the neighbours among them packed to the front through
+// as the scalar loop, so the same floats; with KURAGE_NATIVE's FMA the compiler may contract the
+// two differently), the neighbours among them packed to the front through
 // a table and all four written (out and d2 have room for every candidate); the list is the
 // scalar loop's, in the same order.
 inline size_t sift(const float* __restrict x, const float* __restrict y, const float* __restrict z, float xi,
