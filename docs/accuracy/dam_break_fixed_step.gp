@@ -8,15 +8,15 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-26.6761 0.067363 "2.5e-05"
-13.693 0.0679415 "5e-05"
-6.87504 0.0676921 "0.0001"
-4.5637 0.0683017 "0.00015"
-3.52678 0.068874 "0.0002"
+19.5303 0.067363 "2.5e-05"
+9.94256 0.0679415 "5e-05"
+5.04213 0.0676921 "0.0001"
+3.40202 0.0683017 "0.00015"
+2.60611 0.068874 "0.0002"
 EOD
 $series1 << EOD
-3.52678 0.1 ""
-26.6761 0.1 ""
+2.60611 0.1 ""
+19.5303 0.1 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"

@@ -10,39 +10,39 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-1 13.1665 "as the scene"
-2 11.7915 "telescopic density off"
-3 12.6016 "muscles removed"
-4 12.4709 "viscosity 0"
-5 12.9504 "wall weights added"
+1 10.9023 "as the scene"
+2 9.52641 "telescopic density off"
+3 10.1647 "muscles removed"
+4 10.7394 "viscosity 0"
+5 11.131 "wall weights added"
 EOD
 $series1 << EOD
-0.88 3.7038 ""
-1.88 3.65563 ""
-2.88 3.64041 ""
-3.88 3.40543 ""
-4.88 3.66337 ""
+0.88 1.84515 ""
+1.88 1.81433 ""
+2.88 1.74333 ""
+3.88 1.81071 ""
+4.88 1.91302 ""
 EOD
 $series2 << EOD
-0.84 1.33236 ""
+0.84 1.31856 ""
 1.84 0 ""
-2.84 1.32953 ""
-3.84 1.29315 ""
-4.84 1.27648 ""
+2.84 1.3047 ""
+3.84 1.30332 ""
+4.84 1.30469 ""
 EOD
 $series3 << EOD
-0.8 2.37169 ""
-1.8 2.3279 ""
-2.8 2.27406 ""
-3.8 2.09662 ""
-4.8 2.45043 ""
+0.8 2.13949 ""
+1.8 2.10178 ""
+2.8 2.02955 ""
+3.8 1.93288 ""
+4.8 2.31322 ""
 EOD
 $series4 << EOD
-0.76 4.66821 ""
-1.76 4.69575 ""
-2.76 4.67923 ""
-3.76 4.54456 ""
-4.76 4.4849 ""
+0.76 4.67645 ""
+1.76 4.68065 ""
+2.76 4.61296 ""
+3.76 4.6127 ""
+4.76 4.60931 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"

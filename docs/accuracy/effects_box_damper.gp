@@ -10,24 +10,24 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-1 0.265903 "implicit"
-2 59.3374 "explicit"
+1 0.250925 "implicit"
+2 55.8197 "explicit"
 EOD
 $series1 << EOD
-0.88 0.0493923 ""
-1.88 14.6998 ""
+0.88 0.0374918 ""
+1.88 12.129 ""
 EOD
 $series2 << EOD
-0.84 0.034152 ""
-1.84 11.2676 ""
+0.84 0.034271 ""
+1.84 11.3996 ""
 EOD
 $series3 << EOD
-0.8 0.0489457 ""
-1.8 16.1383 ""
+0.8 0.0446605 ""
+1.8 14.8723 ""
 EOD
 $series4 << EOD
-0.76 0.120162 ""
-1.76 13.7336 ""
+0.76 0.121443 ""
+1.76 13.9431 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"

@@ -9,20 +9,20 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-12.7776 22 "0.35"
-3.767 8 "0.5"
-1.24162 77 "0.7"
-0.368688 0 "1.0"
+12.6844 22 "0.35"
+3.70566 8 "0.5"
+1.25506 77 "0.7"
+0.378259 0 "1.0"
 EOD
 $series1 << EOD
-10.2933 15 "0.35"
-2.54544 79 "0.5"
-0.489895 85 "0.7"
-0.144559 47 "1.0"
+10.0778 15 "0.35"
+2.50041 79 "0.5"
+0.48852 85 "0.7"
+0.149519 47 "1.0"
 EOD
 $series2 << EOD
-0.144559 0 ""
-12.7776 0 ""
+0.149519 0 ""
+12.6844 0 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"

@@ -8,26 +8,26 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-3.70457 8 "adaptive"
-11.1117 7 "fixed 2 ms"
-4.41631 10 "fixed 5 ms"
-2.24819 5 "fixed 10 ms"
+3.69114 8 "adaptive"
+10.9811 7 "fixed 2 ms"
+4.4585 10 "fixed 5 ms"
+2.25583 5 "fixed 10 ms"
 EOD
 $series1 << EOD
-3.78588 8 "adaptive"
-11.3299 4 "fixed 2 ms"
-4.47963 5 "fixed 5 ms"
-2.25313 4 "fixed 10 ms"
+3.72784 8 "adaptive"
+11.2179 4 "fixed 2 ms"
+4.51768 5 "fixed 5 ms"
+2.24742 4 "fixed 10 ms"
 EOD
 $series2 << EOD
-3.7775 8 "adaptive"
-11.3101 5 "fixed 2 ms"
-4.4798 10 "fixed 5 ms"
-2.21387 4 "fixed 10 ms"
+3.76257 8 "adaptive"
+11.4888 5 "fixed 2 ms"
+4.60064 10 "fixed 5 ms"
+2.30798 4 "fixed 10 ms"
 EOD
 $series3 << EOD
-2.21387 0 ""
-11.3299 0 ""
+2.24742 0 ""
+11.4888 0 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"
