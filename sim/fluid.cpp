@@ -292,9 +292,8 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
       if (lengths.size() < 2 * count) lengths.resize(2 * count);
       if constexpr (Pressure)
         distanceAndInverse(x, y, z, xi, yi, zi, neighbors.begin(i), count, lengths.data(), lengths.data() + count);
-      const float* distOf = lengths.data();
-      const float* invOf = lengths.data() + count;
-      for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it, ++distOf, ++invOf) {
+      size_t k = 0;  // the neighbour's place in the list (and in lengths)
+      for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it, ++k) {
         const uint32_t j = *it;
         const float slopeJ = Cubic ? *slope++ : 0.0f;
         // r_vec = r_i - r_j
@@ -303,8 +302,8 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
         const float mOverRho = m[j] / rho[j];
         float ux, uy, uz, dist;
         if (r2 > tiny2) {
-          dist = Pressure ? *distOf : std::sqrt(r2);
-          const float inv = Pressure ? *invOf : 1.0f / dist;
+          dist = Pressure ? lengths[k] : std::sqrt(r2);
+          const float inv = Pressure ? lengths[count + k] : 1.0f / dist;
           ux = dx * inv; uy = dy * inv; uz = dz * inv;
         } else {  // coincident particles: separate them along x, ordered by id
           dist = 0.0f;
