@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cassert>
 #include <cstring>
@@ -274,7 +275,11 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
   const float lapC = viscosity.laplacianCoefficient * dynamicViscosity;
   const float tiny2 = 1e-12f * h * h;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, particles.size(), 512), [&](const tbb::blocked_range<size_t>& range) {
-    std::vector<float> lengths;  // |r_ij| and 1 / |r_ij| of one particle's neighbours
+    // |r_ij| and 1 / |r_ij| of one particle's neighbours, on the stack (the step allocates
+    // nothing: StepLoop.AllocatesNothingOnceRunning); a particle with more neighbours takes them
+    // one at a time.
+    constexpr size_t kPacked = 256;
+    std::array<float, 2 * kPacked> lengths;
     for (size_t i = range.begin(); i != range.end(); ++i) {
       const float xi = x[i], yi = y[i], zi = z[i];
       const float vxi = vx[i], vyi = vy[i], vzi = vz[i];
@@ -288,10 +293,10 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
       // With pressure, first |r_ij| and 1 / |r_ij| for all neighbours, four at a time: one at a
       // time, each pair waited on its square root and division (the same floats).
       // (Viscosity alone, DFSPH's, ran no faster so: its pairs need no division.)
-      const size_t count = Pressure ? neighbors.count(i) : 0;
-      if (lengths.size() < 2 * count) lengths.resize(2 * count);
-      if constexpr (Pressure)
-        distanceAndInverse(x, y, z, xi, yi, zi, neighbors.begin(i), count, lengths.data(), lengths.data() + count);
+      const bool packed = Pressure && neighbors.count(i) <= kPacked;
+      if (packed)
+        distanceAndInverse(x, y, z, xi, yi, zi, neighbors.begin(i), neighbors.count(i), lengths.data(),
+                           lengths.data() + kPacked);
       size_t k = 0;  // the neighbour's place in the list (and in lengths)
       for (const uint32_t* it = neighbors.begin(i); it != neighbors.end(i); ++it, ++k) {
         const uint32_t j = *it;
@@ -302,8 +307,8 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
         const float mOverRho = m[j] / rho[j];
         float ux, uy, uz, dist;
         if (r2 > tiny2) {
-          dist = Pressure ? lengths[k] : std::sqrt(r2);
-          const float inv = Pressure ? lengths[count + k] : 1.0f / dist;
+          dist = packed ? lengths[k] : std::sqrt(r2);
+          const float inv = packed ? lengths[kPacked + k] : 1.0f / dist;
           ux = dx * inv; uy = dy * inv; uz = dz * inv;
         } else {  // coincident particles: separate them along x, ordered by id
           dist = 0.0f;
