@@ -16,9 +16,15 @@
 namespace kurage::sim {
 
 namespace {
+#if defined(__SSE2__)
+// Four floats (or ints) in one SSE register (GCC and Clang vector extension)
+using Float4 = float __attribute__((vector_size(16)));
+using Int4 = int __attribute__((vector_size(16)));
+#endif
+
 // Appends the candidates j in [first, last) within sqrt(h2) of (xi, yi, zi), other than `self`,
 // to out from index `found`, without a branch: every candidate is written and the count advances
-// only for a neighbour. Returns the new count. Four candidates at a time where SSE is available:
+// only for a neighbour. Returns the new count. Four candidates at a time where SSE2 is available:
 // their r^2 in one register (the same operations in the same order as the scalar loop, so the
 // same floats; with KURAGE_NATIVE's FMA the compiler may contract the two differently), the
 // neighbours' indices among them packed to the front through a table and all four written with
@@ -31,9 +37,7 @@ inline size_t sift(const float* __restrict x, const float* __restrict y, const f
                    float yi, float zi, float h2, uint32_t self, uint32_t first, uint32_t last,
                    uint32_t* __restrict out, size_t found) {
   uint32_t j = first;
-#if defined(__SSE__)
-  using Float4 = float __attribute__((vector_size(16)));
-  using Int4 = int __attribute__((vector_size(16)));
+#if defined(__SSE2__)
   // kPack[m]: the lanes set in the 4-bit mask m, first, in order
   alignas(16) static constexpr int kPack[16][4] = {{0, 1, 2, 3}, {0, 1, 2, 3}, {1, 0, 2, 3}, {0, 1, 2, 3}, {2, 0, 1, 3}, {0, 2, 1, 3},
                                                    {1, 2, 0, 3}, {0, 1, 2, 3}, {3, 0, 1, 2}, {0, 3, 1, 2}, {1, 3, 0, 2}, {0, 1, 3, 2},
@@ -68,9 +72,6 @@ inline size_t sift(const float* __restrict x, const float* __restrict y, const f
 }
 
 #if defined(__SSE2__)
-using Float4 = float __attribute__((vector_size(16)));
-using Int4 = int __attribute__((vector_size(16)));
-
 // The cubic spline's W(r) and W'(r) / r (0 at r <= 1e-6 h) for the four neighbours whose r^2 bits
 // are bits[0..3]: CubicSplineKernel's operator() and derivative() lane by lane, both branches
 // computed and the lane's one kept. The same operations in the same order as the scalar loop,
