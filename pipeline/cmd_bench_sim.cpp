@@ -33,6 +33,7 @@ struct StepSettings {
   float cfl = 0.4f;              // time_step.cfl
   float pressureFactor = 0.4f;   // time_step.pressure_factor (incompressible solvers)
   double warmupTime = -1.0;      // s: warm up to this simulated time instead of `warmup` steps
+  float maxDensityError = 0.1f;  // %: DFSPH's fluid.max_density_error
 };
 
 sim::SimParams damBreak(int particles, float supportRadius, const std::string& solver, const StepSettings& settings) {
@@ -53,6 +54,7 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   p.fluid.solver = solver == "dfsph-cg" || solver == "dfsph-gc" ? "dfsph" : solver;
   if (solver == "dfsph-cg") p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
   if (solver == "dfsph-gc") p.fluid.gradientCorrection = true;
+  p.fluid.maxDensityError = settings.maxDensityError;
   if (solver != "wcsph") {
     p.container.wallDensity = sim::WallDensity::BoundaryParticles;
     p.fluid.pressureForce = sim::PressureForce::Monaghan1992;
@@ -124,7 +126,8 @@ int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
                 "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|all] [--sound-speed-scale F]\n"
-                "                        [--cfl F] [--pressure-factor F] [--warmup-time S] [--json]\n\n"
+                "                        [--cfl F] [--pressure-factor F] [--warmup-time S]\n"
+                "                        [--max-density-error P] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
                 "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
@@ -135,7 +138,9 @@ int benchSim(ArgParser& args) {
                 "compression falls as 1/F^2, its step as 1/F; with --warmup 600 the density%% column shows it).\n"
                 "--cfl F, --pressure-factor F: time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each).\n"
                 "--warmup-time S: warm up to S simulated seconds instead of --warmup steps (the JSON's\n"
-                "timed_from_s says where timing began), to time solvers from the same moment.\n");
+                "timed_from_s says where timing began), to time solvers from the same moment.\n"
+                "--max-density-error P: DFSPH's fluid.max_density_error in %% (default 0.1), the tolerance on\n"
+                "its own predicted error; the density%% column measures every solver's compression alike.\n");
     return 0;
   }
   const bool json = args.flag({"--json"});
@@ -159,6 +164,9 @@ int benchSim(ArgParser& args) {
     if (!(*t >= 0.0 && *t <= 1000.0)) args.fail("--warmup-time must be in [0, 1000] s");
     settings.warmupTime = *t;
   }
+  settings.maxDensityError = float(args.doubleOption({"--max-density-error"}).value_or(0.1));
+  if (!(settings.maxDensityError > 0.0f && settings.maxDensityError <= 100.0f))
+    args.fail("--max-density-error must be in (0, 100] %");
   std::vector<std::string> solvers;
   if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
   else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg" || solverChoice == "dfsph-gc")
@@ -169,6 +177,7 @@ int benchSim(ArgParser& args) {
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
                         {"warmup_steps", warmup}, {"timed_steps", steps}, {"sound_speed_scale", soundScale}, {"cfl", settings.cfl},
                         {"pressure_factor", settings.pressureFactor}, {"warmup_time_s", settings.warmupTime},
+                        {"max_density_error_percent", settings.maxDensityError},
                         {"runs", nlohmann::json::array()}};
   if (!json)
     std::printf("%8s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",

@@ -225,11 +225,22 @@ TEST(EndToEnd, HelpOnEverySubcommand) {
   EXPECT_EQ(test::runKurage("frobnicate", dir.path() / "bad.txt"), 2);
 }
 
-// bench sim times solvers from the same moment of the collapse (--warmup-time) at the step the user
-// picks (--cfl, --pressure-factor), and refuses values out of range (exit 2, naming the option).
+// bench sim times solvers from the same moment of the collapse (--warmup-time) at the step and
+// DFSPH tolerance the user picks (--cfl, --pressure-factor, --max-density-error), and refuses
+// values out of range (exit 2, naming the option).
 TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
   test::TempDir dir;
   const std::filesystem::path log = dir.path() / "bench.txt";
+  auto densityIterations = [&](const char* tolerance) {
+    EXPECT_EQ(test::runKurage(std::string("bench sim --particles 400 --threads 1 --steps 4 --solver dfsph --warmup-time 0.3 "
+                                          "--json --max-density-error ") + tolerance, log), 0)
+        << pipeline::readText(log);
+    const nlohmann::json out = nlohmann::json::parse(pipeline::readText(log));
+    EXPECT_FLOAT_EQ(out.at("max_density_error_percent").get<float>(), std::stof(tolerance));
+    const nlohmann::json& run = out.at("runs").at(0);
+    return run.at("iterations_per_step").get<double>() - run.at("divergence_iterations_per_step").get<double>();
+  };
+  EXPECT_GT(densityIterations("0.01"), densityIterations("1")) << "the tolerance reaches the solver";
   ASSERT_EQ(test::runKurage("bench sim --particles 400 --threads 1 --steps 2 --solver dfsph --warmup-time 0.3 "
                             "--cfl 0.5 --pressure-factor 0.6 --json",
                             log),
@@ -238,12 +249,13 @@ TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
   const nlohmann::json out = nlohmann::json::parse(pipeline::readText(log));
   EXPECT_FLOAT_EQ(out.at("cfl").get<float>(), 0.5f);
   EXPECT_FLOAT_EQ(out.at("pressure_factor").get<float>(), 0.6f);
+  EXPECT_FLOAT_EQ(out.at("max_density_error_percent").get<float>(), 0.1f) << "the scenes' default";
   ASSERT_EQ(out.at("runs").size(), 1u);  // DFSPH: h = 2 l only, one thread, one particle count
   for (const auto& run : out.at("runs")) {
     EXPECT_GE(run.at("timed_from_s").get<double>(), 0.3);
     EXPECT_LT(run.at("timed_from_s").get<double>(), 0.5) << "warmed up to 0.3 s, not far past it";
   }
-  for (const char* bad : {"--cfl 0", "--cfl 3", "--pressure-factor -1", "--warmup-time -2"}) {
+  for (const char* bad : {"--cfl 0", "--cfl 3", "--pressure-factor -1", "--warmup-time -2", "--max-density-error 0"}) {
     EXPECT_EQ(test::runKurage(std::string("bench sim --particles 400 --steps 1 ") + bad, log), 2) << bad;
     const std::string option = std::string(bad).substr(0, std::string(bad).find(' '));
     EXPECT_NE(pipeline::readText(log).find(option), std::string::npos) << bad;
