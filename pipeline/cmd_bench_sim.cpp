@@ -12,8 +12,10 @@
 // also reports simulated seconds per wall second and the measured mean compression. `--cfl` and
 // `--pressure-factor` set time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each, as in
 // scenes), since the largest step a solver can take is part of its cost; `--warmup-time` warms up
-// to a simulated time instead of a step count, so that solvers stepping differently are timed from
-// the same moment of the collapse.
+// to a simulated time instead of a step count, and `--duration` times a simulated window instead
+// of a step count, so that solvers stepping differently are timed over the same part of the
+// collapse; `--max-density-error` sets DFSPH's tolerance, so that each solver can be timed at its
+// cheapest setting within a measured compression.
 #include "pipeline/cli.h"
 #include "sim/simulation.h"
 
@@ -34,6 +36,7 @@ struct StepSettings {
   float pressureFactor = 0.4f;   // time_step.pressure_factor (incompressible solvers)
   double warmupTime = -1.0;      // s: warm up to this simulated time instead of `warmup` steps
   float maxDensityError = 0.1f;  // %: DFSPH's fluid.max_density_error
+  double duration = -1.0;        // s: time steps until the clock has advanced this far, instead of `steps` steps
 };
 
 sim::SimParams damBreak(int particles, float supportRadius, const std::string& solver, const StepSettings& settings) {
@@ -69,6 +72,8 @@ struct BenchRun {
   double simulatedPerWall = 0;   // simulated seconds per wall-clock second
   double timedFrom = 0;          // simulated time at which the timed steps start, s
   double densityError = 0;       // mean compression over the timed steps (fraction)
+  int timedSteps = 0;            // steps timed
+  double timedSeconds = 0;       // simulated seconds they covered
   size_t particles = 0;
   float hOverSpacing = 0;
   int threads = 0;
@@ -79,8 +84,9 @@ struct BenchRun {
   std::array<double, size_t(sim::Stage::Count)> stageMs{};
 };
 
-BenchRun measure(int particles, float h, int threads, int warmup, int steps, const std::string& solver,
+BenchRun measure(int particles, float h, int threads, int warmup, int stepCount, const std::string& solver,
                  const StepSettings& settings) {
+  int steps = 0;
   ThreadLimit limit(threads);
   sim::Simulation simulation(damBreak(particles, h, solver, settings));
   if (settings.warmupTime >= 0.0)
@@ -92,11 +98,16 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
   const double timeBefore = simulation.time();
   const auto start = std::chrono::steady_clock::now();
   double neighbours = 0;
-  for (int i = 0; i < steps; ++i) {
+  // --duration: the same simulated window for solvers whose steps differ tenfold (its last step
+  // may end past it, by less than one step).
+  const bool byTime = settings.duration > 0.0;
+  steps = 0;
+  while (byTime ? simulation.time() < timeBefore + settings.duration : steps < stepCount) {
     // The adaptive step from the previous step's accelerations (advanceTo recomputes them first;
     // the step size differs negligibly and frames are not needed here).
     simulation.step(simulation.nextStepLimit().step);
     neighbours += double(simulation.neighbors().totalCount()) / simulation.particles().size();
+    ++steps;
   }
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BenchRun r;
@@ -107,6 +118,8 @@ BenchRun measure(int particles, float h, int threads, int warmup, int steps, con
   r.divergenceIterations = double(ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
   r.simulatedPerWall = (simulation.time() - timeBefore) / seconds;
   r.timedFrom = timeBefore;
+  r.timedSteps = steps;
+  r.timedSeconds = simulation.time() - timeBefore;
   r.densityError = (simulation.stats().densityErrorSum - before.densityErrorSum) / steps;
   r.particles = simulation.particles().size();
   r.hOverSpacing = h;
@@ -127,7 +140,7 @@ int benchSim(ArgParser& args) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
                 "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|all] [--sound-speed-scale F]\n"
                 "                        [--cfl F] [--pressure-factor F] [--warmup-time S]\n"
-                "                        [--max-density-error P] [--json]\n\n"
+                "                        [--max-density-error P] [--duration S] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
                 "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
@@ -140,7 +153,10 @@ int benchSim(ArgParser& args) {
                 "--warmup-time S: warm up to S simulated seconds instead of --warmup steps (the JSON's\n"
                 "timed_from_s says where timing began), to time solvers from the same moment.\n"
                 "--max-density-error P: DFSPH's fluid.max_density_error in %% (default 0.1), the tolerance on\n"
-                "its own predicted error; the density%% column measures every solver's compression alike.\n");
+                "its own predicted error; the density%% column measures every solver's compression alike.\n"
+                "--duration S: time the steps of S simulated seconds instead of --steps (solvers whose steps\n"
+                "differ tenfold then cover the same window of the collapse; the JSON's timed_steps and\n"
+                "timed_simulated_s say what was timed).\n");
     return 0;
   }
   const bool json = args.flag({"--json"});
@@ -164,6 +180,10 @@ int benchSim(ArgParser& args) {
     if (!(*t >= 0.0 && *t <= 1000.0)) args.fail("--warmup-time must be in [0, 1000] s");
     settings.warmupTime = *t;
   }
+  if (auto d = args.doubleOption({"--duration"})) {
+    if (!(*d > 0.0 && *d <= 1000.0)) args.fail("--duration must be in (0, 1000] s");
+    settings.duration = *d;
+  }
   settings.maxDensityError = float(args.doubleOption({"--max-density-error"}).value_or(0.1));
   if (!(settings.maxDensityError > 0.0f && settings.maxDensityError <= 100.0f))
     args.fail("--max-density-error must be in (0, 100] %");
@@ -175,8 +195,9 @@ int benchSim(ArgParser& args) {
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
-                        {"warmup_steps", warmup}, {"timed_steps", steps}, {"sound_speed_scale", soundScale}, {"cfl", settings.cfl},
+                        {"warmup_steps", warmup}, {"timed_steps", settings.duration > 0.0 ? nlohmann::json() : nlohmann::json(steps)}, {"sound_speed_scale", soundScale}, {"cfl", settings.cfl},
                         {"pressure_factor", settings.pressureFactor}, {"warmup_time_s", settings.warmupTime},
+                        {"duration_s", settings.duration},
                         {"max_density_error_percent", settings.maxDensityError},
                         {"runs", nlohmann::json::array()}};
   if (!json)
@@ -194,7 +215,8 @@ int benchSim(ArgParser& args) {
         out["runs"].push_back({{"solver", r.solver}, {"iterations_per_step", r.iterations},
                                {"divergence_iterations_per_step", r.divergenceIterations},
                                {"simulated_s_per_wall_s", r.simulatedPerWall}, {"mean_density_error", r.densityError},
-                               {"timed_from_s", r.timedFrom},
+                               {"timed_from_s", r.timedFrom}, {"timed_steps", r.timedSteps},
+                               {"timed_simulated_s", r.timedSeconds},
                                {"particles", r.particles}, {"h_over_spacing", r.hOverSpacing}, {"threads", r.threads},
                                {"mean_neighbours", r.meanNeighbours}, {"ms_per_step", r.msPerStep},
                                {"ms_per_step_by_stage", stages},

@@ -225,9 +225,10 @@ TEST(EndToEnd, HelpOnEverySubcommand) {
   EXPECT_EQ(test::runKurage("frobnicate", dir.path() / "bad.txt"), 2);
 }
 
-// bench sim times solvers from the same moment of the collapse (--warmup-time) at the step and
-// DFSPH tolerance the user picks (--cfl, --pressure-factor, --max-density-error), and refuses
-// values out of range (exit 2, naming the option).
+// bench sim times solvers from the same moment of the collapse (--warmup-time) over the same
+// simulated window (--duration) at the step and DFSPH tolerance the user picks (--cfl,
+// --pressure-factor, --max-density-error), and refuses values out of range (exit 2, naming the
+// option).
 TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
   test::TempDir dir;
   const std::filesystem::path log = dir.path() / "bench.txt";
@@ -241,6 +242,21 @@ TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
     return run.at("iterations_per_step").get<double>() - run.at("divergence_iterations_per_step").get<double>();
   };
   EXPECT_GT(densityIterations("0.01"), densityIterations("1")) << "the tolerance reaches the solver";
+  // --duration: the same simulated window for both solvers, whatever their steps.
+  for (const char* solver : {"dfsph", "wcsph"}) {
+    ASSERT_EQ(test::runKurage(std::string("bench sim --particles 400 --threads 1 --warmup-time 0.3 --duration 0.2 --json "
+                                          "--solver ") + solver, log), 0)
+        << pipeline::readText(log);
+    const nlohmann::json out = nlohmann::json::parse(pipeline::readText(log));
+    EXPECT_TRUE(out.at("timed_steps").is_null()) << "no step count when timed by duration";
+    for (const auto& run : out.at("runs")) {
+      const double window = run.at("timed_simulated_s").get<double>();
+      const int steps = run.at("timed_steps").get<int>();
+      ASSERT_GE(steps, 1) << solver;
+      EXPECT_GE(window, 0.2) << solver;
+      EXPECT_LT(window, 0.2 + 3.0 * window / steps) << solver << ": past the window by about a step, not more";
+    }
+  }
   ASSERT_EQ(test::runKurage("bench sim --particles 400 --threads 1 --steps 2 --solver dfsph --warmup-time 0.3 "
                             "--cfl 0.5 --pressure-factor 0.6 --json",
                             log),
@@ -255,7 +271,8 @@ TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
     EXPECT_GE(run.at("timed_from_s").get<double>(), 0.3);
     EXPECT_LT(run.at("timed_from_s").get<double>(), 0.5) << "warmed up to 0.3 s, not far past it";
   }
-  for (const char* bad : {"--cfl 0", "--cfl 3", "--pressure-factor -1", "--warmup-time -2", "--max-density-error 0"}) {
+  for (const char* bad :
+       {"--cfl 0", "--cfl 3", "--pressure-factor -1", "--warmup-time -2", "--max-density-error 0", "--duration 0"}) {
     EXPECT_EQ(test::runKurage(std::string("bench sim --particles 400 --steps 1 ") + bad, log), 2) << bad;
     const std::string option = std::string(bad).substr(0, std::string(bad).find(' '));
     EXPECT_NE(pipeline::readText(log).find(option), std::string::npos) << bad;
