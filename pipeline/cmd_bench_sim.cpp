@@ -86,7 +86,6 @@ struct BenchRun {
 
 BenchRun measure(int particles, float h, int threads, int warmup, int stepCount, const std::string& solver,
                  const StepSettings& settings) {
-  int steps = 0;
   ThreadLimit limit(threads);
   sim::Simulation simulation(damBreak(particles, h, solver, settings));
   if (settings.warmupTime >= 0.0)
@@ -101,7 +100,7 @@ BenchRun measure(int particles, float h, int threads, int warmup, int stepCount,
   // --duration: the same simulated window for solvers whose steps differ tenfold (its last step
   // may end past it, by less than one step).
   const bool byTime = settings.duration > 0.0;
-  steps = 0;
+  int steps = 0;
   while (byTime ? simulation.time() < timeBefore + settings.duration : steps < stepCount) {
     // The adaptive step from the previous step's accelerations (advanceTo recomputes them first;
     // the step size differs negligibly and frames are not needed here).
@@ -195,7 +194,9 @@ int benchSim(ArgParser& args) {
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
-                        {"warmup_steps", warmup}, {"timed_steps", settings.duration > 0.0 ? nlohmann::json() : nlohmann::json(steps)}, {"sound_speed_scale", soundScale}, {"cfl", settings.cfl},
+                        {"warmup_steps", warmup},
+                        {"timed_steps", settings.duration > 0.0 ? nlohmann::json() : nlohmann::json(steps)},
+                        {"sound_speed_scale", soundScale}, {"cfl", settings.cfl},
                         {"pressure_factor", settings.pressureFactor}, {"warmup_time_s", settings.warmupTime},
                         {"duration_s", settings.duration},
                         {"max_density_error_percent", settings.maxDensityError},
