@@ -8,7 +8,9 @@
 // at the scene default tolerance (0.1 % mean density error) with boundary-particle walls, h = 2 l
 // only (its cubic spline kernel needs the larger support), with its mean iterations per step;
 // `dfsph-cg` (in `all` too) the same with the divergence solve by conjugate gradients, `dfsph-gc`
-// (not in `all`) with fluid.gradient_correction (Bonet & Lok's corrected kernel gradient). Every row
+// (not in `all`) with fluid.gradient_correction (Bonet & Lok's corrected kernel gradient),
+// `dfsph-calm` (not in `all`) with both and the divergence tolerance at 0.01 %: the still tank's
+// "calm and corrected" setting, which scenes/jellyfish.json uses. Every row
 // also reports simulated seconds per wall second and the measured mean compression. `--cfl` and
 // `--pressure-factor` set time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each, as in
 // scenes), since the largest step a solver can take is part of its cost; `--warmup-time` warms up
@@ -54,9 +56,10 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   p.container.min = Eigen::Vector3f(0, 0, 0);
   p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
-  p.fluid.solver = solver == "dfsph-cg" || solver == "dfsph-gc" ? "dfsph" : solver;
-  if (solver == "dfsph-cg") p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
-  if (solver == "dfsph-gc") p.fluid.gradientCorrection = true;
+  p.fluid.solver = solver.rfind("dfsph", 0) == 0 ? "dfsph" : solver;
+  if (solver == "dfsph-cg" || solver == "dfsph-calm") p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
+  if (solver == "dfsph-gc" || solver == "dfsph-calm") p.fluid.gradientCorrection = true;
+  if (solver == "dfsph-calm") p.fluid.maxDivergenceError = 0.01f;
   p.fluid.maxDensityError = settings.maxDensityError;
   if (solver != "wcsph") {
     p.container.wallDensity = sim::WallDensity::BoundaryParticles;
@@ -137,7 +140,8 @@ BenchRun measure(int particles, float h, int threads, int warmup, int stepCount,
 int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
-                "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|all] [--sound-speed-scale F]\n"
+                "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|dfsph-calm|all]\n"
+                "                        [--sound-speed-scale F]\n"
                 "                        [--cfl F] [--pressure-factor F] [--warmup-time S]\n"
                 "                        [--max-density-error P] [--duration S] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
@@ -145,7 +149,8 @@ int benchSim(ArgParser& args) {
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
                 "0.1 %% mean density error): iterations per step and simulated seconds per wall second;\n"
                 "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients), dfsph-gc (not in\n"
-                "all) with fluid.gradient_correction (the corrected kernel gradient).\n"
+                "all) with fluid.gradient_correction (the corrected kernel gradient), dfsph-calm (not in all) with\n"
+                "both and fluid.max_divergence_error 0.01 (the still tank's calm and corrected setting).\n"
                 "--sound-speed-scale F: WCSPH's speed of sound F times the default 10 sqrt(2 g H) (its\n"
                 "compression falls as 1/F^2, its step as 1/F; with --warmup 600 the density%% column shows it).\n"
                 "--cfl F, --pressure-factor F: time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each).\n"
@@ -188,9 +193,10 @@ int benchSim(ArgParser& args) {
     args.fail("--max-density-error must be in (0, 100] %");
   std::vector<std::string> solvers;
   if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
-  else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg" || solverChoice == "dfsph-gc")
+  else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg" || solverChoice == "dfsph-gc" ||
+           solverChoice == "dfsph-calm")
     solvers = {solverChoice};
-  else args.fail("--solver must be wcsph, dfsph, dfsph-cg, dfsph-gc or all");
+  else args.fail("--solver must be wcsph, dfsph, dfsph-cg, dfsph-gc, dfsph-calm or all");
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},

@@ -16,7 +16,8 @@ constexpr int kMinDensityIterations = 2;     // Bender & Koschier 2017, Algorith
 constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergence solve
 constexpr float kMirror = 2.0f;               // the wall's pressure counts with the particle's (header)
 constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
-constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergence pressure
+constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergence pressure (Jacobi)
+constexpr float kCgDivergenceWarmStart = 0.8f;  // the same for conjugate gradients (header)
 }  // namespace
 
 DfsphSolver::DfsphSolver(const FluidParams& fluid)
@@ -177,10 +178,12 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   if (maxDivergenceIterations_ <= 0 || !(c.lastStep > 0.0f) || n == 0) return;
   int iterations = 0;
   double error = 0.0;
-  // Warm start (header): half of each fluid particle's q of the previous step, by id.
+  // Warm start (header): a share of each fluid particle's q of the previous step, by id.
+  const float share =
+      divergenceSolve_ == DivergenceSolve::ConjugateGradient ? kCgDivergenceWarmStart : kDivergenceWarmStart;
   const bool warm = orderedSum(n, [&](size_t i) {
     const size_t id = size_t(p.id[i]);
-    qSum_[i] = active_[i] && p.kind[i] == 0 && id < qById_.size() ? kDivergenceWarmStart * qById_[id] * unit(p, i) : 0.0f;
+    qSum_[i] = active_[i] && p.kind[i] == 0 && id < qById_.size() ? share * qById_[id] * unit(p, i) : 0.0f;
     return qSum_[i] != 0.0f ? 1.0 : 0.0;
   }) > 0.0;
   if (warm) applyPressure(c, qSum_.data(), 1.0f, velocity_.data());
