@@ -38,6 +38,7 @@ struct StepSettings {
   float pressureFactor = 0.4f;   // time_step.pressure_factor (incompressible solvers)
   double warmupTime = -1.0;      // s: warm up to this simulated time instead of `warmup` steps
   float maxDensityError = 0.1f;  // %: DFSPH's fluid.max_density_error
+  float maxDivergenceError = -1.0f;  // %: DFSPH's fluid.max_divergence_error where > 0 (else each row's own)
   double duration = -1.0;        // s: time steps until the clock has advanced this far, instead of `steps` steps
 };
 
@@ -60,6 +61,7 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   if (solver == "dfsph-cg" || solver == "dfsph-calm") p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
   if (solver == "dfsph-gc" || solver == "dfsph-calm") p.fluid.gradientCorrection = true;
   if (solver == "dfsph-calm") p.fluid.maxDivergenceError = 0.01f;
+  if (settings.maxDivergenceError > 0.0f) p.fluid.maxDivergenceError = settings.maxDivergenceError;
   p.fluid.maxDensityError = settings.maxDensityError;
   if (solver != "wcsph") {
     p.container.wallDensity = sim::WallDensity::BoundaryParticles;
@@ -143,7 +145,7 @@ int benchSim(ArgParser& args) {
                 "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|dfsph-calm|all]\n"
                 "                        [--sound-speed-scale F]\n"
                 "                        [--cfl F] [--pressure-factor F] [--warmup-time S]\n"
-                "                        [--max-density-error P] [--duration S] [--json]\n\n"
+                "                        [--max-density-error P] [--max-divergence-error P] [--duration S] [--json]\n\n"
                 "Times steps of a running 3-D dam break for h = 1.5 and 2 spacings, on 1 and 2 threads\n"
                 "(default particle counts 100000 and 250000; --particles may be given once to pick one).\n"
                 "--solver dfsph (or all, the default) adds DFSPH rows (h = 2 spacings, boundary particles,\n"
@@ -158,6 +160,9 @@ int benchSim(ArgParser& args) {
                 "timed_from_s says where timing began), to time solvers from the same moment.\n"
                 "--max-density-error P: DFSPH's fluid.max_density_error in %% (default 0.1), the tolerance on\n"
                 "its own predicted error; the density%% column measures every solver's compression alike.\n"
+                "--max-divergence-error P: DFSPH's fluid.max_divergence_error in %% for every DFSPH row\n"
+                "(default: each row's own, 0.1, or 0.01 for dfsph-calm; the JSON's max_divergence_error_percent\n"
+                "is null then).\n"
                 "--duration S: time the steps of S simulated seconds instead of --steps (solvers whose steps\n"
                 "differ tenfold then cover the same window of the collapse; the JSON's timed_steps and\n"
                 "timed_simulated_s say what was timed).\n");
@@ -191,6 +196,10 @@ int benchSim(ArgParser& args) {
   settings.maxDensityError = float(args.doubleOption({"--max-density-error"}).value_or(0.1));
   if (!(settings.maxDensityError > 0.0f && settings.maxDensityError <= 100.0f))
     args.fail("--max-density-error must be in (0, 100] %");
+  if (auto e = args.doubleOption({"--max-divergence-error"})) {
+    if (!(*e > 0.0 && *e <= 100.0)) args.fail("--max-divergence-error must be in (0, 100] %");
+    settings.maxDivergenceError = float(*e);
+  }
   std::vector<std::string> solvers;
   if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
   else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg" || solverChoice == "dfsph-gc" ||
@@ -206,6 +215,9 @@ int benchSim(ArgParser& args) {
                         {"pressure_factor", settings.pressureFactor}, {"warmup_time_s", settings.warmupTime},
                         {"duration_s", settings.duration},
                         {"max_density_error_percent", settings.maxDensityError},
+                        {"max_divergence_error_percent", settings.maxDivergenceError > 0.0f
+                                                             ? nlohmann::json(settings.maxDivergenceError)
+                                                             : nlohmann::json()},
                         {"runs", nlohmann::json::array()}};
   if (!json)
     std::printf("%8s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",

@@ -245,8 +245,9 @@ TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
   // --solver dfsph-calm: the still tank's calm and corrected setting (the divergence by conjugate
   // gradients at 0.01 %, the corrected gradient) reaches the solver: its divergence solve iterates
   // more than the default's at 0.1 %.
-  auto divergenceIterations = [&](const std::string& solver) {
-    EXPECT_EQ(test::runKurage("bench sim --particles 400 --threads 1 --steps 4 --warmup-time 0.3 --json --solver " + solver,
+  auto divergenceIterations = [&](const std::string& solver, const std::string& extra = "") {
+    EXPECT_EQ(test::runKurage("bench sim --particles 400 --threads 1 --steps 4 --warmup-time 0.3 --json --solver " + solver +
+                                  extra,
                               log), 0)
         << pipeline::readText(log);
     const nlohmann::json run = nlohmann::json::parse(pipeline::readText(log)).at("runs").at(0);
@@ -254,6 +255,12 @@ TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
     return run.at("divergence_iterations_per_step").get<double>();
   };
   EXPECT_GT(divergenceIterations("dfsph-calm"), divergenceIterations("dfsph"));
+  // --max-divergence-error P sets every DFSPH row's divergence tolerance, dfsph-calm's too.
+  const double loose = divergenceIterations("dfsph-calm", " --max-divergence-error 1");
+  EXPECT_FLOAT_EQ(nlohmann::json::parse(pipeline::readText(log)).at("max_divergence_error_percent").get<float>(), 1.0f);
+  EXPECT_LT(loose, divergenceIterations("dfsph-calm"));
+  EXPECT_TRUE(nlohmann::json::parse(pipeline::readText(log)).at("max_divergence_error_percent").is_null())
+      << "null when not given";
   // --duration: the same simulated window for both solvers, whatever their steps.
   for (const char* solver : {"dfsph", "wcsph"}) {
     ASSERT_EQ(test::runKurage(std::string("bench sim --particles 400 --threads 1 --warmup-time 0.3 --duration 0.2 --json "
@@ -284,7 +291,8 @@ TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
     EXPECT_LT(run.at("timed_from_s").get<double>(), 0.5) << "warmed up to 0.3 s, not far past it";
   }
   for (const char* bad :
-       {"--cfl 0", "--cfl 3", "--pressure-factor -1", "--warmup-time -2", "--max-density-error 0", "--duration 0"}) {
+       {"--cfl 0", "--cfl 3", "--pressure-factor -1", "--warmup-time -2", "--max-density-error 0", "--duration 0",
+        "--max-divergence-error 0", "--max-divergence-error 101"}) {
     EXPECT_EQ(test::runKurage(std::string("bench sim --particles 400 --steps 1 ") + bad, log), 2) << bad;
     const std::string option = std::string(bad).substr(0, std::string(bad).find(' '));
     EXPECT_NE(pipeline::readText(log).find(option), std::string::npos) << bad;
