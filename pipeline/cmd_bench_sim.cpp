@@ -23,6 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -30,6 +31,27 @@
 namespace kurage::pipeline {
 
 namespace {
+
+// The rows --solver picks: a solver with the DFSPH settings each row changes (the others keep the
+// scenes' defaults).
+struct SolverRow {
+  const char* name;
+  const char* solver;             // fluid.solver
+  bool conjugateGradients;        // fluid.divergence_solve "cg"
+  bool gradientCorrection;        // fluid.gradient_correction
+  float maxDivergenceError;       // %, fluid.max_divergence_error; <= 0: the default
+};
+constexpr std::array<SolverRow, 5> kSolverRows{{{"wcsph", "wcsph", false, false, 0.0f},
+                                                {"dfsph", "dfsph", false, false, 0.0f},
+                                                {"dfsph-cg", "dfsph", true, false, 0.0f},
+                                                {"dfsph-gc", "dfsph", false, true, 0.0f},
+                                                {"dfsph-calm", "dfsph", true, true, 0.01f}}};
+
+const SolverRow* findSolverRow(const std::string& name) {
+  for (const SolverRow& row : kSolverRows)
+    if (name == row.name) return &row;
+  return nullptr;
+}
 
 // The step settings of a run (scenes' defaults unless given).
 struct StepSettings {
@@ -57,10 +79,11 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   p.container.min = Eigen::Vector3f(0, 0, 0);
   p.container.max = Eigen::Vector3f(3.0f * nx, float(nx), 1.2f * nz);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
-  p.fluid.solver = solver.rfind("dfsph", 0) == 0 ? "dfsph" : solver;
-  if (solver == "dfsph-cg" || solver == "dfsph-calm") p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
-  if (solver == "dfsph-gc" || solver == "dfsph-calm") p.fluid.gradientCorrection = true;
-  if (solver == "dfsph-calm") p.fluid.maxDivergenceError = 0.01f;
+  const SolverRow& row = *findSolverRow(solver);
+  p.fluid.solver = row.solver;
+  if (row.conjugateGradients) p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
+  p.fluid.gradientCorrection = row.gradientCorrection;
+  if (row.maxDivergenceError > 0.0f) p.fluid.maxDivergenceError = row.maxDivergenceError;
   if (settings.maxDivergenceError > 0.0f) p.fluid.maxDivergenceError = settings.maxDivergenceError;
   p.fluid.maxDensityError = settings.maxDensityError;
   if (solver != "wcsph") {
@@ -202,9 +225,7 @@ int benchSim(ArgParser& args) {
   }
   std::vector<std::string> solvers;
   if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
-  else if (solverChoice == "wcsph" || solverChoice == "dfsph" || solverChoice == "dfsph-cg" || solverChoice == "dfsph-gc" ||
-           solverChoice == "dfsph-calm")
-    solvers = {solverChoice};
+  else if (findSolverRow(solverChoice)) solvers = {solverChoice};
   else args.fail("--solver must be wcsph, dfsph, dfsph-cg, dfsph-gc, dfsph-calm or all");
   if (!args.positionals().empty()) args.fail("unexpected argument");
 

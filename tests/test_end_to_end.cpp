@@ -225,10 +225,10 @@ TEST(EndToEnd, HelpOnEverySubcommand) {
   EXPECT_EQ(test::runKurage("frobnicate", dir.path() / "bad.txt"), 2);
 }
 
-// bench sim times solvers (--solver dfsph-calm among them) from the same moment of the collapse (--warmup-time) over the same
-// simulated window (--duration) at the step and DFSPH tolerance the user picks (--cfl,
-// --pressure-factor, --max-density-error), and refuses values out of range (exit 2, naming the
-// option).
+// bench sim times solvers (--solver dfsph-calm among them) from the same moment of the collapse
+// (--warmup-time) over the same simulated window (--duration) at the step and DFSPH tolerances
+// the user picks (--cfl, --pressure-factor, --max-density-error, --max-divergence-error), and
+// refuses values out of range (exit 2, naming the option).
 TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
   test::TempDir dir;
   const std::filesystem::path log = dir.path() / "bench.txt";
