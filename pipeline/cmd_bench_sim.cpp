@@ -86,7 +86,7 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   if (row.maxDivergenceError > 0.0f) p.fluid.maxDivergenceError = row.maxDivergenceError;
   if (settings.maxDivergenceError > 0.0f) p.fluid.maxDivergenceError = settings.maxDivergenceError;
   p.fluid.maxDensityError = settings.maxDensityError;
-  if (solver != "wcsph") {
+  if (p.fluid.solver != "wcsph") {
     p.container.wallDensity = sim::WallDensity::BoundaryParticles;
     p.fluid.pressureForce = sim::PressureForce::Monaghan1992;
   }
