@@ -294,6 +294,37 @@ MembraneLeak membraneLeak(const sim::ParticleSet& p, int kind, float fluidSpacin
   return m;
 }
 
+MembraneLoad membraneLoad(const sim::ParticleSet& p, int kind, float supportRadius) {
+  const float near = 0.7f * supportRadius;
+  std::vector<size_t> fluid, sheet;
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] == 0) fluid.push_back(i);
+    else if (p.kind[i] == kind) sheet.push_back(i);
+  }
+  auto d2 = [&](size_t i, size_t j) {
+    const float dx = p.x[i] - p.x[j], dy = p.y[i] - p.y[j], dz = p.z[i] - p.z[j];
+    return dx * dx + dy * dy + dz * dz;
+  };
+  std::vector<double> sheetPressure, fluidPressure;
+  for (size_t j : sheet)
+    if (std::any_of(fluid.begin(), fluid.end(), [&](size_t i) { return d2(i, j) < near * near; }))
+      sheetPressure.push_back(p.pressure[j]);
+  for (size_t i : fluid)
+    if (std::any_of(sheet.begin(), sheet.end(), [&](size_t j) { return d2(i, j) < supportRadius * supportRadius; }))
+      fluidPressure.push_back(p.pressure[i]);
+  auto quantile = [](std::vector<double>& v, double q) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v[size_t(q * double(v.size() - 1))];
+  };
+  MembraneLoad m;
+  m.sheetParticles = sheetPressure.size();
+  m.fluidParticles = fluidPressure.size();
+  m.sheetPressure90 = quantile(sheetPressure, 0.9);
+  m.fluidPressure50 = quantile(fluidPressure, 0.5);
+  return m;
+}
+
 ShellWall::ShellWall(const sim::BodyParams& shell, int kind, const sim::ParticleSet& p, float fluidSpacing)
     : kind_(kind), layers_(std::max(1, shell.layers)), spacing_(shell.spacingMetres(fluidSpacing)),
       axis_(shell.axis.cast<double>().normalized()) {

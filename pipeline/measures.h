@@ -106,6 +106,18 @@ struct MembraneLeak {
 };
 MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float fluidSpacing);
 
+// Who carries the poured fluid's weight (docs/PHYSICS.md, "Why the membrane's contrast is
+// WCSPH's"): the 90th percentile of the pressure of the membrane's particles that have a fluid
+// particle within 0.7 h, and the median pressure of the fluid particles within h of the membrane
+// (Pa; 0 where there are none). Brute force over fluid x membrane pairs: for the small scenes
+// that pour fluid onto a membrane.
+struct MembraneLoad {
+  double sheetPressure90 = 0;  // the loaded sheet's pressure, 90th percentile
+  double fluidPressure50 = 0;  // the fluid's pressure against the sheet, median
+  size_t sheetParticles = 0, fluidParticles = 0;  // how many each figure is over
+};
+MembraneLoad membraneLoad(const sim::ParticleSet& particles, int kind, float supportRadius);
+
 // ---- A still tank ----
 
 // Samples a tank of fluid (kind 0) filled to `filledHeight` above the container's floor, meant to

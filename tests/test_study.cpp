@@ -332,6 +332,23 @@ TEST(Measures, MembraneLeakCountsFluidBelowTheLowestBodyParticle) {
   EXPECT_EQ(leak.leaked, 1u);
 }
 
+// The loaded sheet's pressure counts only sheet particles with fluid within 0.7 h, the fluid's only
+// particles within h of the sheet.
+TEST(Measures, MembraneLoadReadsTheLoadedSheetAndTheFluidOnIt) {
+  sim::ParticleSet p;
+  int64_t id = 0;
+  for (int k = 0; k < 10; ++k) p.add(float(k), 0, 5.0f, 0, 0, 0, 1000, 1, id++, 1);  // sheet along x
+  p.add(0, 0, 6.0f, 0, 0, 0, 1000, 1, id++, 0);   // fluid on the sheet's first particle
+  p.add(0, 0, 9.0f, 0, 0, 0, 1000, 1, id++, 0);   // fluid far above
+  for (size_t i = 0; i < p.size(); ++i) p.pressure[i] = p.kind[i] == 1 ? (p.x[i] == 0.0f ? 4000.0f : 100.0f) : 0.0f;
+  p.pressure[11] = 7000.0f;  // the far fluid particle: not against the sheet
+  const MembraneLoad load = membraneLoad(p, 1, 1.5f);  // 0.7 h = 1.05 m: one sheet particle is loaded
+  EXPECT_EQ(load.sheetParticles, 1u);
+  EXPECT_EQ(load.sheetPressure90, 4000.0);
+  EXPECT_EQ(load.fluidParticles, 1u);
+  EXPECT_EQ(load.fluidPressure50, 0.0);
+}
+
 // A lattice 10 m deep at rest with the hydrostatic pressure reads no error; each slab's pressure
 // 3 % high reads 3 %, and a tank that sank by one spacing reads its surface 10 % low.
 TEST(Measures, HydrostaticTrackReadsTheSlabsAndTheSurface) {
