@@ -341,7 +341,7 @@ TEST(Measures, MembraneLoadReadsTheLoadedSheetAndTheFluidOnIt) {
   p.add(0, 0, 6.0f, 0, 0, 0, 1000, 1, id++, 0);   // fluid on the sheet's first particle
   p.add(0, 0, 9.0f, 0, 0, 0, 1000, 1, id++, 0);   // fluid far above
   for (size_t i = 0; i < p.size(); ++i) p.pressure[i] = p.kind[i] == 1 ? (p.x[i] == 0.0f ? 4000.0f : 100.0f) : 0.0f;
-  p.pressure[11] = 7000.0f;  // the far fluid particle: not against the sheet
+  p.pressure.back() = 7000.0f;  // the far fluid particle: not against the sheet
   const MembraneLoad load = membraneLoad(p, 1, 1.5f);  // 0.7 h = 1.05 m: one sheet particle is loaded
   EXPECT_EQ(load.sheetParticles, 1u);
   EXPECT_EQ(load.sheetPressure90, 4000.0);
