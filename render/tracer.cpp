@@ -453,42 +453,42 @@ Hit intersect(const Frame& f, const Vector3f& origin, const Vector3f& direction,
 }
 
 // Fraction of light that reaches `origin` along `direction` from distance tfar. Opaque hits
-// give 0. With transmissive shadows, dielectric surfaces let (1 - F) through at each crossing
-// and absorb exp(-absorption * length) inside, the ray going straight on (no refraction).
-// With `snellsWindow` (the sky's shadow rays), the ray stands for the refracted path that leaves
-// the surface at the same angle on the air's side: its Fresnel factor is taken at that angle (no
-// total internal reflection) and its radiance is divided by ior^2 where it leaves a dielectric
-// (the sky seen from under a flat surface is squeezed into a cone whose projected solid angle is
-// 1/ior^2 of the hemisphere's, and the tracer does not scale radiance at refractions; see
-// materials.cpp). For a flat surface over a parallel floor the unbent ray then gives exactly the
-// irradiance of the refracted paths (conservation of etendue, n^2 cos dw invariant).
+// give 0. With transmissive shadows the ray goes straight on through dielectric surfaces and
+// stands for the refracted path that meets each surface at the same angle on the air's side
+// (Snell's window): each crossing lets (1 - F) through, F taken at that angle from the air's side
+// (so no total internal reflection: a wave facet steeper than the critical angle does not cast a
+// black shadow, which the refracted light of its neighbours would fill), the medium absorbs
+// exp(-absorption * length), and the radiance is divided by ior^2 for every medium the ray leaves
+// and multiplied by it for every one it enters. A shading point under water thus receives 1/ior^2
+// of what the unbent ray carries: the sky seen from under a flat surface is squeezed into a cone
+// whose projected solid angle is 1/ior^2 of the hemisphere's, and a beam (the sun, a small light)
+// crosses the same horizontal area, while the tracer does not scale radiance at refractions
+// (materials.cpp), so the camera's path out of the water does not undo it. For a flat surface over
+// a parallel floor the unbent ray then gives exactly the irradiance of the refracted paths
+// (conservation of etendue, n^2 cos dw invariant); a ray through a parallel slab from air to air
+// keeps (1 - F)^2, the slab's exact single-pass transmission.
 Vector3f transmittance(const Frame& f, Vector3f origin, const Vector3f& direction, float tfar,
-                       RTCIntersectContext& context, Counters& counters, bool snellsWindow = false) {
+                       RTCIntersectContext& context, Counters& counters) {
   if (!f.settings->transmissiveShadows)
     return occluded(f, origin, direction, tfar, context, counters) ? Vector3f::Zero() : Vector3f::Ones();
   Vector3f through = Vector3f::Ones();
+  float etendue = 1.0f;  // the product of ior^2 entered and 1/ior^2 left
   for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
     EmbreeHit e;
-    if (!intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, e)) return through;
+    if (!intersectEmbree(f, origin, direction, 0.0f, tfar, context, counters, e)) return through * etendue;
     const Hit hit = embreeHit(f, origin, direction, e);
     const float t = e.t;
     const Material& m = *hit.material;
     if (m.type != MaterialType::Dielectric) return Vector3f::Zero();
     const float cosine = direction.dot(hit.ng);
     const bool leaving = cosine > 0.0f;  // the segment just travelled was inside
-    // Snell's window: the unbent ray stands for the refracted one that meets the surface at this
-    // angle from the air's side, so its Fresnel factor is the air side's (no total internal
-    // reflection; the n^2 below accounts for the narrower cone under water).
-    if (snellsWindow)
-      through *= 1.0f - fresnelDielectric(std::abs(cosine), 1.0f, m.ior);
-    else
-      through *= 1.0f - (leaving ? fresnelDielectric(cosine, m.ior, 1.0f) : fresnelDielectric(-cosine, 1.0f, m.ior));
+    through *= 1.0f - fresnelDielectric(std::abs(cosine), 1.0f, m.ior);
     if (leaving) through = through.cwiseProduct((-m.absorption * t).array().exp().matrix());
-    if (leaving && snellsWindow) through /= m.ior * m.ior;
+    etendue *= leaving ? 1.0f / (m.ior * m.ior) : m.ior * m.ior;
     if (through.maxCoeff() <= 0.0f) return Vector3f::Zero();
     origin = hit.point + (leaving ? f.epsilon : -f.epsilon) * hit.ng;
     tfar = tfar == kInfinity ? kInfinity : tfar - t;
-    if (!(tfar > 0.0f)) return through;
+    if (!(tfar > 0.0f)) return through * etendue;
   }
   return Vector3f::Zero();
 }
@@ -553,7 +553,7 @@ Vector3f directLight(const Frame& f, const Hit& hit, const Vector3f& wo, PixelSa
       if (fcos.maxCoeff() > 0.0f && !groundBlocks(f, hit.point, wi)) {
         const float weight = powerHeuristic(pdfLight, diffuseLobePdf(material, wo, wi, hit.ns, hit.ng)) / pdfLight;
         sum += fcos.cwiseProduct(environmentRadiance(f.input->environment, wi))
-                   .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters, true)) *
+                   .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters)) *
                weight;
       }
     }
@@ -743,7 +743,7 @@ Vector3f whittedDirect(const Frame& f, const Hit& hit, const Material& material,
     const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
     if (wi.dot(g) <= 0.0f || groundBlocks(f, hit.point, wi)) continue;
     sky += environmentRadiance(f.input->environment, wi)
-               .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters, true));
+               .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters));
   }
   if (!f.skySet.empty()) sum += albedo.cwiseProduct(sky) / float(f.skySet.size());
   return sum;
