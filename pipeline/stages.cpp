@@ -786,9 +786,16 @@ void encodeSceneVideo(const Scene& scene, const fs::path& outDir, int first, int
     std::printf("video: none (render.outputs.png is false; the video is made from the PNG frames)\n");
     return;
   }
-  char stamp[160];
-  std::snprintf(stamp, sizeof stamp, "video %s %d %d %g", stageHash(scene, "render").c_str(), first, last - first + 1,
-                scene.output.fps);
+  // The stamp names the frames' bytes as well as the settings: frames rendered again with the
+  // same settings (after they were deleted, or by another build of the tracer) remake the movie.
+  uint64_t frames = fnv1a64("");
+  for (int f = first; f <= last; ++f) {
+    const fs::path frame = frameFile(outDir / "frames", f, "png");
+    if (fs::exists(frame)) frames = fnv1a64(readFile(frame), frames);
+  }
+  char stamp[200];
+  std::snprintf(stamp, sizeof stamp, "video %s %d %d %g %016llx", stageHash(scene, "render").c_str(), first,
+                last - first + 1, scene.output.fps, static_cast<unsigned long long>(frames));
   encodeVideoAndReport(outDir / "frames", first, last - first + 1, scene.output.fps, outDir / (scene.name + ".mp4"),
                        stamp, force);
 }

@@ -12,6 +12,7 @@
 #include "pipeline/io/video.h"
 #include "pipeline/particle_cache.h"
 #include "pipeline/scene.h"
+#include "pipeline/stages.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -210,6 +211,32 @@ TEST(FullDisk, VideoFailureIsAnErrorAndLeavesNoMovie) {
   // Without the limit the movie is made and checked (ffprobe counts 5 frames).
   EXPECT_TRUE(encodeVideo(frames, 0, 5, 4.0, movie).encoded);
   EXPECT_GT(fs::file_size(movie), 0u);
+}
+
+TEST(Video, FramesRenderedAgainRemakeTheMovie) {
+  // The movie's stamp names the frames' bytes as well as the render settings: frames rendered
+  // again with the same settings but other pixels (deleted and redone by another build of the
+  // tracer) must not leave the old movie standing as "up to date".
+  if (!onPath("ffmpeg")) GTEST_SKIP() << "ffmpeg is not on the PATH";
+  TempDir dir;
+  const Scene scene = loadScene(kTinyScene);
+  const fs::path frames = dir.path() / "frames";
+  fs::create_directories(frames);
+  const auto writeFrames = [&](float red) {
+    for (int f = 0; f < 3; ++f)
+      writePng(render::Image(64, 48, Eigen::Vector4f(red, 0.1f * float(f), 0.2f, 1.0f)), frameFile(frames, f, "png"));
+  };
+  writeFrames(0.2f);
+  const fs::path movie = dir.path() / (scene.name + ".mp4");
+  encodeSceneVideo(scene, dir.path(), 0, 2);
+  ASSERT_TRUE(fs::exists(movie));
+  const auto made = fs::last_write_time(movie);
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  encodeSceneVideo(scene, dir.path(), 0, 2);  // the same frames: kept
+  EXPECT_EQ(fs::last_write_time(movie), made);
+  writeFrames(0.8f);
+  encodeSceneVideo(scene, dir.path(), 0, 2);  // other pixels, the same settings: made again
+  EXPECT_NE(fs::last_write_time(movie), made);
 }
 
 TEST(FullDisk, FfmpegErrorWithExitZeroIsCaught) {
