@@ -92,6 +92,29 @@ kr::TriangleMesh box(const Vector3f& centre, const Vector3f& half, const Eigen::
   return mesh;
 }
 
+// The ground (albedo 0.5) under the mesh `water` (n = 1.33, no absorption), the sun (E = 2) at
+// `degrees` from the vertical, no sky, the camera 5 m above looking straight down.
+kr::RenderScene groundUnderWater(const kr::TriangleMesh& water, float degrees, float fovDegrees) {
+  const float theta = degrees * kPi / 180.0f;
+  kr::RenderScene scene;
+  scene.environment.type = kr::EnvironmentType::Uniform;
+  scene.environment.zenith = Vector3f::Zero();
+  scene.ground.checkerSize = 0.0f;
+  scene.ground.albedoA = {0.5f, 0.5f, 0.5f};
+  scene.sun.direction = {std::sin(theta), 0, -std::cos(theta)};
+  scene.sun.irradiance = {2, 2, 2};
+  kr::Material material;
+  material.type = kr::MaterialType::Dielectric;
+  material.ior = 1.33f;
+  material.absorption = Vector3f::Zero();
+  scene.meshes.push_back({&water, material});
+  scene.camera.position = {0, 0, 5};
+  scene.camera.lookAt = {0, 0, 0};
+  scene.camera.up = {0, 1, 0};
+  scene.camera.verticalFovDegrees = fovDegrees;
+  return scene;
+}
+
 }  // namespace
 
 TEST(EnvironmentSampling, SameMeanAsBsdfSamplingWithFarLessVariance) {
@@ -216,22 +239,7 @@ TEST(Whitted, SunLightsTheFloorUnderFlatWaterThroughSnellsWindow) {
   for (const float degrees : {10.0f, 35.0f, 60.0f}) {  // (overhead, the camera would see the sun mirrored)
     const float theta = degrees * kPi / 180.0f;
     const kr::TriangleMesh water = box({0, 0, 0}, {50, 50, 1}, Eigen::Matrix3f::Identity());  // z in [-1, 1]
-    kr::RenderScene scene;
-    scene.environment.type = kr::EnvironmentType::Uniform;
-    scene.environment.zenith = Vector3f::Zero();
-    scene.ground.checkerSize = 0.0f;
-    scene.ground.albedoA = {0.5f, 0.5f, 0.5f};
-    scene.sun.direction = {std::sin(theta), 0, -std::cos(theta)};
-    scene.sun.irradiance = {2, 2, 2};
-    kr::Material material;
-    material.type = kr::MaterialType::Dielectric;
-    material.ior = 1.33f;
-    material.absorption = Vector3f::Zero();
-    scene.meshes.push_back({&water, material});
-    scene.camera.position = {0, 0, 5};
-    scene.camera.lookAt = {0, 0, 0};
-    scene.camera.up = {0, 1, 0};
-    scene.camera.verticalFovDegrees = 1.0f;
+    kr::RenderScene scene = groundUnderWater(water, degrees, 1.0f);
     kr::RenderSettings settings;
     settings.integrator = kr::Integrator::Whitted;
     settings.width = 3;
@@ -264,25 +272,9 @@ TEST(TransmissiveShadows, SameMeanAsExactTransportUnderFlatWater) {
   // 1/n^2 for the sun as for the sky, it read about n^2 = 1.77 times too bright at 35 degrees
   // and black at 60 (total internal reflection of the unbent ray).
   for (const float degrees : {35.0f, 60.0f}) {
-    const float theta = degrees * kPi / 180.0f;
     const kr::TriangleMesh water = box({0, 0, 0}, {50, 50, 1}, Eigen::Matrix3f::Identity());
-    kr::RenderScene scene;
-    scene.environment.type = kr::EnvironmentType::Uniform;
-    scene.environment.zenith = Vector3f::Zero();
-    scene.ground.checkerSize = 0.0f;
-    scene.ground.albedoA = {0.5f, 0.5f, 0.5f};
-    scene.sun.direction = {std::sin(theta), 0, -std::cos(theta)};
-    scene.sun.irradiance = {2, 2, 2};
+    kr::RenderScene scene = groundUnderWater(water, degrees, 5.0f);
     scene.sun.angularDiameterDegrees = 10.0f;
-    kr::Material material;
-    material.type = kr::MaterialType::Dielectric;
-    material.ior = 1.33f;
-    material.absorption = Vector3f::Zero();
-    scene.meshes.push_back({&water, material});
-    scene.camera.position = {0, 0, 5};
-    scene.camera.lookAt = {0, 0, 0};
-    scene.camera.up = {0, 1, 0};
-    scene.camera.verticalFovDegrees = 5.0f;
     PixelStats estimate[2];
     for (const bool transmissive : {true, false}) {
       kr::RenderSettings settings;
