@@ -261,7 +261,10 @@ struct Frame {
   Vector3f clipNormal;               // unit
   float epsilon = 1e-4f;             // ray offset against self-intersection, metres
   EnvironmentSampler environment;    // empty unless the environment is sampled as a light
-  std::vector<Eigen::Vector2f> skySet;  // whitted: the fixed points warped to sky directions
+  // whitted: the fixed points warped to sky directions, skyDirections x samplesPerPixel of them
+  // (one Hammersley set); the pixel's sample s takes points s, s + S, s + 2 S, ... (S = skySamples)
+  std::vector<Eigen::Vector2f> skySet;
+  int skySamples = 1;
 };
 
 // Ray statistics of one tile, added to the frame's totals when the tile is done.
@@ -697,7 +700,7 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
 // along the frame's fixed cosine-distributed directions about the shading normal, turned to wo's
 // side (cosine weighting cancels the cosine: sum L T / K estimates E / pi).
 Vector3f whittedDirect(const Frame& f, const Hit& hit, const Material& material, const Vector3f& albedo,
-                       const Vector3f& wo, RTCIntersectContext& context, Counters& counters) {
+                       const Vector3f& wo, int sample, RTCIntersectContext& context, Counters& counters) {
   const bool outside = wo.dot(hit.ng) >= 0.0f;
   const Vector3f g = outside ? hit.ng : Vector3f(-hit.ng);
   Vector3f n = outside ? hit.ns : Vector3f(-hit.ns);
@@ -739,13 +742,16 @@ Vector3f whittedDirect(const Frame& f, const Hit& hit, const Material& material,
       }
   }
   Vector3f sky = Vector3f::Zero();
-  for (const Eigen::Vector2f& u : f.skySet) {
+  int skyDirections = 0;
+  for (size_t k = size_t(sample % f.skySamples); k < f.skySet.size(); k += size_t(f.skySamples)) {
+    const Eigen::Vector2f& u = f.skySet[k];
+    ++skyDirections;
     const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
     if (wi.dot(g) <= 0.0f || groundBlocks(f, hit.point, wi)) continue;
     sky += environmentRadiance(f.input->environment, wi)
                .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters));
   }
-  if (!f.skySet.empty()) sum += albedo.cwiseProduct(sky) / float(f.skySet.size());
+  if (skyDirections > 0) sum += albedo.cwiseProduct(sky) / float(skyDirections);
   return sum;
 }
 
@@ -754,8 +760,8 @@ constexpr float kWhittedCutoff = 1e-3f;  // branches whose weight falls below th
 // Radiance along a ray by the Whitted integrator; `weight` is the product of the Fresnel and
 // mirror factors so far (for the cutoff), `absorption` the medium's coefficient (0: air).
 Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& direction, int depth,
-                      const Vector3f& absorption, float weight, RTCIntersectContext& context, Counters& counters,
-                      bool* hitSomething) {
+                      const Vector3f& absorption, float weight, int sample, RTCIntersectContext& context,
+                      Counters& counters, bool* hitSomething) {
   static const Material kGroundMaterial{};
   const Hit hit = intersect(f, origin, direction, context, counters);
   if (hitSomething) *hitSomething = hit.kind != Hit::None;
@@ -781,7 +787,7 @@ Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& di
     Vector3f medium = absorption;
     if (s.transmitted && hit.material) medium = wo.dot(hit.ng) > 0.0f ? material.absorption : Vector3f::Zero();
     const Vector3f next = hit.point + (s.direction.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng;
-    radiance += factor.cwiseProduct(traceWhitted(f, next, s.direction, depth + 1, medium, branch, context, counters, nullptr));
+    radiance += factor.cwiseProduct(traceWhitted(f, next, s.direction, depth + 1, medium, branch, sample, context, counters, nullptr));
   };
   // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
   const auto fresnel = [&] {
@@ -794,7 +800,7 @@ Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& di
   constexpr float kAlmostOne = 1.0f - 0x1p-24f;
   switch (material.type) {
     case MaterialType::Diffuse:
-      radiance = whittedDirect(f, hit, material, hit.albedo, wo, context, counters);
+      radiance = whittedDirect(f, hit, material, hit.albedo, wo, sample, context, counters);
       break;
     case MaterialType::Mirror:
       if (sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s)) follow(s, s.weight);
@@ -811,7 +817,7 @@ Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& di
       const float F = fresnel();
       if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s) && !s.transmitted)
         follow(s, Vector3f::Constant(F));
-      radiance += whittedDirect(f, hit, material, hit.albedo.cwiseProduct(hit.albedo) * (1.0f - F), wo, context, counters);
+      radiance += whittedDirect(f, hit, material, hit.albedo.cwiseProduct(hit.albedo) * (1.0f - F), wo, sample, context, counters);
       break;
     }
   }
@@ -936,10 +942,14 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
   const bool whitted = settings.integrator == Integrator::Whitted;
   if (settings.environmentSampling && !whitted)
     frame.environment = EnvironmentSampler(scene.environment, scene.ground.enabled ? &frame.groundNormal : nullptr);
-  if (whitted)  // fixed Hammersley points, shifted half a stratum off the pole
-    for (int k = 0; k < settings.whitted.skyDirections; ++k)
-      frame.skySet.emplace_back((float(k) + 0.5f) / float(settings.whitted.skyDirections),
-                                radicalInverse2(uint32_t(k)) + 0.5f / float(settings.whitted.skyDirections));
+  if (whitted) {  // fixed Hammersley points, shifted half a stratum off the pole
+    frame.skySamples = std::max(1, settings.samplesPerPixel);
+    const int points = settings.whitted.skyDirections * frame.skySamples;
+    for (int k = 0; k < points; ++k) {
+      const float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points);
+      frame.skySet.emplace_back((float(k) + 0.5f) / float(points), v - std::floor(v));
+    }
+  }
 
   Image image(settings.width, settings.height);
   const int tilesX = (settings.width + kTileSize - 1) / kTileSize;
@@ -998,7 +1008,8 @@ Image renderFrame(const RenderScene& scene, const RenderSettings& settings, Rend
               camera.generate(float(x) + sx, float(y) + sy, sy, sx, origin, direction);
               ++counters.primary;
               bool hitSomething = false;
-              sum += traceWhitted(frame, origin, direction, 0, Vector3f::Zero(), 1.0f, context, counters, &hitSomething);
+              sum += traceWhitted(frame, origin, direction, 0, Vector3f::Zero(), 1.0f, s, context, counters,
+                                  &hitSomething);
               covered += hitSomething ? 1 : 0;
             }
           } else if (adaptive.enabled) {

@@ -119,7 +119,10 @@ struct RenderScene {
 //            diffuse surfaces take only direct light: the sun along its centre direction (hard
 //            shadows), each area light at the centres of a lightSamples x lightSamples grid, and
 //            the sky along `skyDirections` fixed cosine-distributed directions about the normal
-//            (a Hammersley set, the same at every point; each with its shadow ray). Shadow rays
+//            (each with its shadow ray), which differ from sample to sample of a pixel: sample s
+//            takes points s, s + S, ... of one Hammersley set of skyDirections x S points (S =
+//            samplesPerPixel), the same at every pixel, so the pixel averages skyDirections x S
+//            directions and the sky's shadows are not skyDirections hard copies. Shadow rays
 //            follow RenderSettings::transmissiveShadows. Translucent bodies are shaded as diffuse
 //            with albedo tint^2 (1 - F) (light scattered in and out once) plus the Fresnel
 //            reflection. No indirect diffuse light, no caustics. Pixels are anti-aliased with

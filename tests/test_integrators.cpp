@@ -14,6 +14,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -290,6 +291,49 @@ TEST(TransmissiveShadows, SameMeanAsExactTransportUnderFlatWater) {
     EXPECT_NEAR(estimate[1].mean, estimate[0].mean, 4.0 * standardError) << degrees << " degrees";
     EXPECT_GT(estimate[0].mean, 0.05) << "exact transport found the sun";
   }
+}
+
+TEST(Whitted, SkyDirectionsDifferFromSampleToSampleOfAPixel) {
+  // The ground (albedo 1) under a uniform sky of radiance 1 beside a long opaque wall 1 m high,
+  // seen from straight above along a row of 64 pixels from d = 0.1 to 2.1 m off the wall. The wall
+  // hides (1 - d / sqrt(d^2 + h^2)) / 2 of the sky's projected solid angle, so the ground shows
+  // (1 + d / sqrt(d^2 + h^2)) / 2. Each of a pixel's samples takes its own sky_directions of one
+  // Hammersley set of sky_directions x samples points: 4 directions at 16 samples follow the curve
+  // as 64 would. With one sample, every pixel uses the same 4 directions, so the estimate steps in
+  // quarters and the wall's sky shadow is a set of hard copies of it.
+  const float h = 1.0f;
+  const kr::TriangleMesh wall = box({0.05f, 0, 0.5f * h}, {0.05f, 100, 0.5f * h}, Eigen::Matrix3f::Identity());
+  kr::RenderScene scene;
+  scene.environment.type = kr::EnvironmentType::Uniform;
+  scene.environment.zenith = Vector3f::Ones();
+  scene.sun.irradiance = Vector3f::Zero();
+  scene.ground.checkerSize = 0.0f;
+  scene.ground.albedoA = Vector3f::Ones();
+  scene.meshes.push_back({&wall, kr::Material{}});
+  scene.camera.position = {-1.1f, 0, 20};
+  scene.camera.lookAt = {-1.1f, 0, 0};
+  scene.camera.up = {0, 1, 0};
+  const int width = 64;
+  scene.camera.verticalFovDegrees = 2.0f * std::atan(1.0f / (20.0f * width)) * 180.0f / kPi;  // the row spans 2 m
+  kr::RenderSettings settings;
+  settings.integrator = kr::Integrator::Whitted;
+  settings.whitted.skyDirections = 4;
+  settings.width = width;
+  settings.height = 1;
+  const auto rmsError = [&](int samples) {
+    settings.samplesPerPixel = samples;
+    const kr::Image image = kr::renderFrame(scene, settings);
+    double sum = 0.0;
+    for (int i = 0; i < width; ++i) {
+      const float d = 2.1f - 2.0f * (float(i) + 0.5f) / float(width);  // distance from the wall, m
+      sum += std::pow(image.at(i, 0).x() - 0.5f * (1.0f + d / std::sqrt(d * d + h * h)), 2);
+    }
+    return std::sqrt(sum / width);
+  };
+  const double one = rmsError(1), sixteen = rmsError(16);
+  std::printf("4 sky directions along the row: RMS error %.4f at 1 sample, %.4f at 16\n", one, sixteen);
+  EXPECT_LT(sixteen, 0.02);
+  EXPECT_LT(sixteen, one / 3.0);
 }
 
 TEST(Whitted, ImageDependsOnNeitherSeedNorThreadCount) {
