@@ -697,8 +697,9 @@ Vector3f tracePath(const Frame& f, Vector3f origin, Vector3f direction, PixelSam
 
 // Whitted integrator (see Integrator in tracer.h). Direct light at a diffuse point, no noise:
 // the sun along its centre direction, each area light at the centres of an n x n grid, the sky
-// along the frame's fixed cosine-distributed directions about the shading normal, turned to wo's
-// side (cosine weighting cancels the cosine: sum L T / K estimates E / pi).
+// along the frame's fixed cosine-distributed directions about the shading normal that belong to
+// the pixel's sample `sample` (Frame::skySet), turned to wo's side (cosine weighting cancels the
+// cosine: sum L T / K estimates E / pi).
 Vector3f whittedDirect(const Frame& f, const Hit& hit, const Material& material, const Vector3f& albedo,
                        const Vector3f& wo, int sample, RTCIntersectContext& context, Counters& counters) {
   const bool outside = wo.dot(hit.ng) >= 0.0f;
@@ -787,7 +788,8 @@ Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& di
     Vector3f medium = absorption;
     if (s.transmitted && hit.material) medium = wo.dot(hit.ng) > 0.0f ? material.absorption : Vector3f::Zero();
     const Vector3f next = hit.point + (s.direction.dot(hit.ng) > 0.0f ? f.epsilon : -f.epsilon) * hit.ng;
-    radiance += factor.cwiseProduct(traceWhitted(f, next, s.direction, depth + 1, medium, branch, sample, context, counters, nullptr));
+    radiance += factor.cwiseProduct(
+        traceWhitted(f, next, s.direction, depth + 1, medium, branch, sample, context, counters, nullptr));
   };
   // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
   const auto fresnel = [&] {
@@ -817,7 +819,8 @@ Vector3f traceWhitted(const Frame& f, const Vector3f& origin, const Vector3f& di
       const float F = fresnel();
       if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s) && !s.transmitted)
         follow(s, Vector3f::Constant(F));
-      radiance += whittedDirect(f, hit, material, hit.albedo.cwiseProduct(hit.albedo) * (1.0f - F), wo, sample, context, counters);
+      radiance += whittedDirect(f, hit, material, hit.albedo.cwiseProduct(hit.albedo) * (1.0f - F), wo, sample, context,
+                                counters);
       break;
     }
   }

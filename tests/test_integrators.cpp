@@ -257,9 +257,12 @@ TEST(Whitted, SunLightsTheFloorUnderFlatWaterThroughSnellsWindow) {
     // both faces keeps (1 - F0)^2 / (1 - F0^2) (the tree sums the reflections between them).
     const kr::TriangleMesh lifted = box({0, 0, 2}, {50, 50, 1}, Eigen::Matrix3f::Identity());
     scene.meshes.front().mesh = &lifted;
-    const float f0 = kr::fresnelDielectric(1.0f, 1.0f, 1.33f), ft = kr::fresnelDielectric(std::cos(theta), 1.0f, 1.33f);
-    const float throughAir = (1 - f0) * (1 - f0) / (1 - f0 * f0) * 0.5f * 2.0f * std::cos(theta) * (1 - ft) * (1 - ft) / kPi;
-    EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), throughAir, 1e-3f * throughAir) << degrees << " degrees, lifted";
+    const float f0 = kr::fresnelDielectric(1.0f, 1.0f, 1.33f);
+    const float ft = kr::fresnelDielectric(std::cos(theta), 1.0f, 1.33f);
+    const float throughAir =
+        (1 - f0) * (1 - f0) / (1 - f0 * f0) * 0.5f * 2.0f * std::cos(theta) * (1 - ft) * (1 - ft) / kPi;
+    EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), throughAir, 1e-3f * throughAir)
+        << degrees << " degrees, lifted";
   }
 }
 
