@@ -743,16 +743,14 @@ Vector3f whittedDirect(const Frame& f, const Hit& hit, const Material& material,
       }
   }
   Vector3f sky = Vector3f::Zero();
-  int skyDirections = 0;
   for (size_t k = size_t(sample % f.skySamples); k < f.skySet.size(); k += size_t(f.skySamples)) {
     const Eigen::Vector2f& u = f.skySet[k];
-    ++skyDirections;
     const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
     if (wi.dot(g) <= 0.0f || groundBlocks(f, hit.point, wi)) continue;
     sky += environmentRadiance(f.input->environment, wi)
                .cwiseProduct(transmittance(f, origin(wi), wi, kInfinity, context, counters));
   }
-  if (skyDirections > 0) sum += albedo.cwiseProduct(sky) / float(skyDirections);
+  if (!f.skySet.empty()) sum += albedo.cwiseProduct(sky) * (float(f.skySamples) / float(f.skySet.size()));
   return sum;
 }
 

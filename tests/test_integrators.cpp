@@ -291,6 +291,8 @@ TEST(TransmissiveShadows, SameMeanAsExactTransportUnderFlatWater) {
       estimate[transmissive] = stats(kr::renderFrame(scene, settings));
     }
     const double standardError = std::sqrt((estimate[0].variance + estimate[1].variance) / 1024.0);
+    std::printf("%.0f degrees: transmissive shadows %.4f, exact transport %.4f (standard error %.4f)\n", degrees,
+                estimate[1].mean, estimate[0].mean, standardError);
     EXPECT_NEAR(estimate[1].mean, estimate[0].mean, 4.0 * standardError) << degrees << " degrees";
     EXPECT_GT(estimate[0].mean, 0.05) << "exact transport found the sun";
   }
