@@ -399,6 +399,19 @@ TEST(Dfsph, ReachesItsToleranceOnADamBreak) {
   EXPECT_LE(s.maxDensityError, 0.001 + 1e-9);
 }
 
+// A wider support (h = 3 l, 92 neighbours on the lattice) keeps h = 2 l's relaxation: with its
+// own lattice's count the Jacobi iteration diverged and the run went non-finite.
+TEST(Dfsph, AWiderSupportKeepsTheSolveConvergent) {
+  SimParams p = jellyfishTank("dfsph", 1.0f, InitialState::Lattice);
+  p.fluid.supportRadius = 3.0f;
+  p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);
+  Simulation sim(p);
+  ASSERT_NO_THROW(sim.advanceTo(1.0));
+  const SolverStats& s = sim.solver().stats();
+  EXPECT_EQ(s.densityCapHits, 0u);
+  EXPECT_LE(s.maxDensityError, 0.001 + 1e-9);
+}
+
 // The pressure step bound (sim/time_step.h): in the jellyfish's tank at 0.5 m spacing, 20 m of
 // water, it is the active bound at rest, 0.4 l / sqrt(|g| H) with H the fluid's extent (the tank
 // blew up from its floor at the 0.05 s largest step without it; the settled-tank test above runs

@@ -16,6 +16,7 @@ constexpr int kMinDensityIterations = 2;     // Bender & Koschier 2017, Algorith
 constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergence solve
 constexpr float kMirror = 2.0f;               // the wall's pressure counts with the particle's (header)
 constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
+constexpr float kRelaxedNeighbours = 26.0f;  // ... for at most this many neighbours (h = 2 l's lattice)
 constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergence pressure (Jacobi)
 constexpr float kCgDivergenceWarmStart = 0.8f;  // the same for conjugate gradients (header)
 }  // namespace
@@ -27,13 +28,17 @@ DfsphSolver::DfsphSolver(const FluidParams& fluid)
       divergenceSolve_(fluid.divergenceSolve) {
   if (fluid.kernel == SphKernel::Mueller2003)
     throw std::invalid_argument("dfsph: its solves use the cubic spline kernel, not the paper's poly6 and spiky");
-  // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l).
+  // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l), at most
+  // the count the relaxation was measured for: with a wider support (92 neighbours at h = 3 l)
+  // the fluid's own iteration diverged at ½ (Martin & Moyce went non-finite within 0.08 s from
+  // h = 2.5 l on).
   const int reach = int(std::ceil(fluid.supportRadius));
   for (int a = -reach; a <= reach; ++a)
     for (int b = -reach; b <= reach; ++b)
       for (int c = -reach; c <= reach; ++c)
         if ((a || b || c) && float(a * a + b * b + c * c) < fluid.supportRadius * fluid.supportRadius)
           latticeNeighbours_ += 1.0f;
+  latticeNeighbours_ = std::min(latticeNeighbours_, kRelaxedNeighbours);
 }
 
 namespace {
@@ -161,7 +166,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       // Jacobi's largest eigenvalue grows with the neighbour count: a body at half the fluid
       // spacing has about 8 times the fluid's neighbours, and the iteration diverged there with
       // the fluid's relaxation (bodies under DFSPH went non-finite). Scaled down where a particle
-      // has more neighbours than the fluid lattice.
+      // has more neighbours than the fluid lattice, or than h = 2 l's lattice (constructor).
       const float count = float(c.neighbors.end(i) - c.neighbors.begin(i));
       relax_[i] = kRelaxation * std::min(1.0f, latticeNeighbours_ / std::max(count, 1.0f));
     }

@@ -204,7 +204,7 @@ private:
   std::vector<uint8_t> active_;                // divergence solve: 1 where rho_i >= 0.9 rho0_i
   std::vector<uint8_t> fixed_;                 // no unknown of either solve: held by a pin, or a torn body particle
   std::vector<float> relax_;                   // per particle: the Jacobi relaxation
-  float latticeNeighbours_ = 0.0f;             // neighbours inside a full fluid lattice
+  float latticeNeighbours_ = 0.0f;             // neighbours inside a full fluid lattice, at most 26
   std::vector<double> partial_;                // per chunk sums
   std::vector<float> piById_;                  // warm start, by particle id
   std::vector<float> qSum_;                    // divergence solve: this step's total q
