@@ -73,7 +73,8 @@ void describe(V& v, sim::FluidParams& p) {
                 {"", "pressure solver: 'wcsph' (the paper: p = k_press (rho - rho0), a weakly compressible fluid "
                      "whose compression depends on k_press) or 'dfsph' (divergence-free SPH, Bender & Koschier 2017: "
                      "incompressible to max_density_error, whatever the step; uses the cubic spline kernel, "
-                     "support_radius 2 recommended)"});
+                     "support_radius 2 recommended; 3 closer to Martin & Moyce in a deep slice, at about 2.5 times "
+                     "the cost, docs/VALIDATION.md)"});
   v.value("max_density_error", p.maxDensityError,
           {"%", "dfsph: the constant-density solve iterates until the mean compression is below this, in percent "
                 "of the rest density", positive()});

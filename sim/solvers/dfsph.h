@@ -19,7 +19,7 @@
 // (The mass form's push with the volume form's density rate, used before, is not symmetric
 // between a body particle and the fluid: a box resting on the floor of box.json made the
 // constant-density solve diverge, its pressure growing 2.5-fold an iteration, and the run stopped
-// with a non-finite velocity at t = 16.8 s; docs/PHYSICS.md.)
+// with a non-finite velocity after about 17 s; docs/PHYSICS.md.)
 // The density's rate of change, with w_j = m_j and s_i = 1 ("mass") or w_j = V_j, s_i = rho0_i
 // ("volume"):
 //   Drho_i/Dt = s_i [ sum_j w_j (v_i - v_j) . grad W_ij ] + 2 rho0_i v_i . gB_i    (2017, eq. 9)
