@@ -30,8 +30,8 @@ DfsphSolver::DfsphSolver(const FluidParams& fluid)
     throw std::invalid_argument("dfsph: its solves use the cubic spline kernel, not the paper's poly6 and spiky");
   // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l), at most
   // the count the relaxation was measured for: with a wider support (92 neighbours at h = 3 l)
-  // the fluid's own iteration diverged at ½ (Martin & Moyce went non-finite within 0.08 s from
-  // h = 2.5 l on).
+  // the fluid's own iteration diverged at ½ (Martin & Moyce went non-finite within 0.08 s at
+  // h = 2.5 and 3 l).
   const int reach = int(std::ceil(fluid.supportRadius));
   for (int a = -reach; a <= reach; ++a)
     for (int b = -reach; b <= reach; ++b)
