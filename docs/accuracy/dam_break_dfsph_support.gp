@@ -8,46 +8,52 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-14.6954 0.0833948 "h 2"
-24.4997 0.0589389 "h 2.5"
-38.2411 0.0485193 "h 3"
-90.9853 0.0500571 "h 3.5"
+18.4443 0.0721109 "h 2"
+30.3787 0.0557641 "h 2.5"
+44.9287 0.0449002 "h 3"
+69.139 0.0491934 "h 3.5"
 EOD
 $series1 << EOD
-37.7552 0.0507992 "h 3, nu 5e-4"
-37.6028 0.0493905 "h 3, nu 7e-4"
+45.3867 0.0440287 "h 3, nu 6e-4"
+45.7483 0.0465629 "h 3, nu 7e-4"
 EOD
 $series2 << EOD
-13.1506 0.0551659 "h 3, own step"
+16.1149 0.0534224 "h 3, own step"
 EOD
 $series3 << EOD
-11.6426 0.098798 "h 3, 4 layers"
-53.9987 0.0483172 "h 3, 24 layers"
+14.2527 0.0990407 "h 3, 4 layers"
+66.0719 0.043973 "h 3, 24 layers"
 EOD
 $series4 << EOD
-18.6921 0.0541544 "wcsph ww, h 3"
+38.3696 0.0507992 "h 3, uncorrected"
+38.9553 0.0485193 "h 3, uncorrected, nu 6e-4"
 EOD
 $series5 << EOD
-11.6426 0.05 ""
-90.9853 0.05 ""
+19.307 0.0541544 "wcsph ww, h 3"
+EOD
+$series6 << EOD
+14.2527 0.05 ""
+69.139 0.05 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
-set output "dam_break_dfsph_support.png"
-plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, 16 layers" noenhanced, \
+set output "study.png"
+plot $series0 using 1:2 with linespoints lc 1 lw 2 pt 7 ps 1 axes x1y1 title "dfsph corrected, 16 layers" noenhanced, \
      $series0 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, h 3, viscosity" noenhanced, \
+     $series1 using 1:2 with linespoints lc 2 lw 2 pt 7 ps 1 axes x1y1 title "dfsph corrected, h 3, viscosity" noenhanced, \
      $series1 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series2 using 1:2 with linespoints lc 3 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, h 3, its own step" noenhanced, \
+     $series2 using 1:2 with linespoints lc 3 lw 2 pt 7 ps 1 axes x1y1 title "dfsph corrected, h 3, its own step" noenhanced, \
      $series2 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series3 using 1:2 with linespoints lc 4 lw 2 pt 7 ps 1 axes x1y1 title "dfsph, h 3, slice depth" noenhanced, \
+     $series3 using 1:2 with linespoints lc 4 lw 2 pt 7 ps 1 axes x1y1 title "dfsph corrected, h 3, slice depth" noenhanced, \
      $series3 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series4 using 1:2 with linespoints lc 5 lw 2 pt 7 ps 1 axes x1y1 title "wcsph, wall weights" noenhanced, \
+     $series4 using 1:2 with linespoints lc 5 lw 2 pt 7 ps 1 axes x1y1 title "dfsph uncorrected, h 3" noenhanced, \
      $series4 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
-     $series5 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.05" noenhanced
+     $series5 using 1:2 with linespoints lc 6 lw 2 pt 7 ps 1 axes x1y1 title "wcsph, wall weights" noenhanced, \
+     $series5 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced, \
+     $series6 using 1:2 with lines lc rgb "#808080" lw 1 pt 7 ps 1 axes x1y1 title "accepted error 0.05" noenhanced
 set terminal svg size 900,560 font "sans,11"
-set output "dam_break_dfsph_support.svg"
+set output "study.svg"
 replot
 set terminal pdfcairo size 9in,5.6in font "sans,8"
-set output "dam_break_dfsph_support.pdf"
+set output "study.pdf"
 replot
 unset output
