@@ -116,8 +116,9 @@ TEST(DamBreak, DfsphWithBoundaryParticlesMatchesMartinMoyceWithin12Percent) {
 // relaxation, sim/solvers/dfsph.cpp), the first-order kernel-gradient correction
 // (fluid.gradient_correction) and steps of at most 0.2 ms (DFSPH's own are about 0.6 ms here).
 // Measured 4.46 % / 4.47 %: the 5 % each (docs/PHYSICS.md, "Martin & Moyce under DFSPH":
-// every step from 0.1 to 0.3 ms and nu from 5e-4 to 7e-4 reads under 5 % on both; corrected at
-// h = 2 l this slice reads 7.7 / 7.2 %, uncorrected at h = 3 l 4.6 / 5.1 %).
+// every step from 0.1 to 0.3 ms and nu from 5e-4 to 7e-4 reads under 5 % on both; docs/ACCURACY.md,
+// "DFSPH's support and slice": corrected at h = 2 l this slice reads 7.7 / 7.2 %, uncorrected at
+// h = 3 l 4.6 / 5.1 %).
 TEST(DamBreak, DfsphInADeeperSliceWithAWiderSupportMatchesMartinMoyceWithin5Percent) {
   const Measured m = runDamBreak("dfsph, boundary particles, 16 layers, h = 3 l, corrected", WallSlip::FreeSlip,
                                  "dfsph", WallDensity::BoundaryParticles, SphKernel::Auto,
