@@ -33,7 +33,6 @@ struct Measured {
 struct Slice {
   int layers = 4;               // particle layers in y
   float supportRadius = 2.0f;   // h, in spacings
-  float viscosity = 5e-4f;      // m^2/s
   float maxStep = 0.0f;         // s; 0: the scene default
   bool gradientCorrection = false;  // fluid.gradient_correction (DFSPH)
 };
@@ -48,7 +47,7 @@ Measured runDamBreak(const char* label, WallSlip walls, const std::string& solve
   p.fluid.spacing = l;
   p.fluid.supportRadius = slice.supportRadius;
   p.fluid.pressureStiffness = 20.0f * 20.0f;
-  p.fluid.kinematicViscosity = slice.viscosity;
+  p.fluid.kinematicViscosity = 5e-4f;
   if (slice.maxStep > 0) p.timeStep.maxStep = slice.maxStep;
   p.fluid.gradientCorrection = slice.gradientCorrection;
   p.fluid.pressureForce = PressureForce::Monaghan1992;

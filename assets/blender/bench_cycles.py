@@ -10,7 +10,8 @@ preview max depth) and the seed from the environment's SEED (default 0). Used by
 assets/blender/bench_against_cycles.sh.
 """
 import sys, time, os
-sys.path.insert(0, "/work/main/assets/blender")
+# this file's folder, for import_kurage (Blender passes the script after --python)
+sys.path.insert(0, os.path.dirname(os.path.abspath(sys.argv[sys.argv.index("--python") + 1])))
 import bpy
 import import_kurage as ik
 argv = sys.argv[sys.argv.index("--") + 1:]
