@@ -77,14 +77,28 @@ double DamBreakTrack::timeAtTau(double tau) const { return tau / std::sqrt(g_.gr
 void DamBreakTrack::record(const sim::ParticleSet& s, double time) {
   const double a = g_.width, l = g_.spacing;
   xs_.clear();
-  double column = -1e30;
+  band_.clear();
   for (size_t i = 0; i < s.size(); ++i) {
     if (s.kind[i] != 0) continue;
     const double x = s.x[i] - g_.origin.x(), z = s.z[i] - g_.origin.z();
     if (z < 0.25 * a) xs_.push_back(float(x));
-    if (x < 2 * l) column = std::max(column, z);
+    if (x < 2 * l) band_.push_back({float(z), i});
   }
   std::sort(xs_.begin(), xs_.end());
+  // The column: the highest particle of the band by the back wall that is not spray, i.e. has at
+  // least kColumnNeighbours other fluid particles within two spacings.
+  std::sort(band_.begin(), band_.end(), [](const auto& u, const auto& v) { return u.first > v.first; });
+  double column = -1e30;
+  const float reach2 = float(4.0 * l * l);
+  for (const auto& [z, i] : band_) {
+    int near = 0;
+    for (size_t j = 0; j < s.size() && near < kColumnNeighbours; ++j) {
+      if (j == i || s.kind[j] != 0) continue;
+      const float dx = s.x[j] - s.x[i], dy = s.y[j] - s.y[i], dz = s.z[j] - s.z[i];
+      near += dx * dx + dy * dy + dz * dz < reach2;
+    }
+    if (near >= kColumnNeighbours) { column = z; break; }
+  }
   const double x = xs_.empty() ? 0.0 : xs_[size_t(0.998 * double(xs_.size() - 1))];
   const double t = tau(time);
   front_.push_back({t * std::sqrt(2.0), (x + 0.5 * l) / a});  // T = t sqrt(2g/a)

@@ -60,8 +60,9 @@ struct DamBreakGeometry {
 // Samples the surge front and the residual column height of the fluid (kind 0) over time, as
 // tests/test_dam_break.cpp and docs/VALIDATION.md define them: the front is the 99.8th
 // percentile of x over particles below z = a / 4 (robust to isolated spray), plus half a
-// spacing; the column height is the highest particle within two spacings of the back wall, plus
-// half a spacing. Both series start at (0, 1).
+// spacing; the column height is the highest particle within two spacings of the back wall that has
+// at least three other fluid particles within two spacings (not spray), plus half a spacing. Both
+// series start at (0, 1).
 class DamBreakTrack {
 public:
   explicit DamBreakTrack(const DamBreakGeometry& geometry);
@@ -76,6 +77,8 @@ private:
   DamBreakGeometry g_;
   std::vector<SeriesPoint> front_, column_;
   std::vector<float> xs_;
+  std::vector<std::pair<float, size_t>> band_;  // (z, index) of the particles by the back wall
+  static constexpr int kColumnNeighbours = 3;   // fewer within two spacings: spray, not the column
 };
 
 // ---- Bodies ----

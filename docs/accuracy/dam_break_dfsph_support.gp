@@ -8,32 +8,32 @@ set offsets graph 0.03, graph 0.12, graph 0.06, graph 0.06
 set grid xtics ytics mxtics mytics lc rgb "#dddddd" lw 1, lc rgb "#f0f0f0" lw 1
 set key below noenhanced
 $series0 << EOD
-18.4443 0.0721109 "h 2"
-30.3787 0.0557641 "h 2.5"
-44.9287 0.0449002 "h 3"
-69.139 0.0491934 "h 3.5"
+18.2528 0.0721109 "h 2"
+29.5638 0.0557641 "h 2.5"
+44.167 0.0449002 "h 3"
+68.4472 0.0491934 "h 3.5"
 EOD
 $series1 << EOD
-45.3867 0.0440287 "h 3, nu 6e-4"
-45.7483 0.0465629 "h 3, nu 7e-4"
+44.311 0.0440287 "h 3, nu 6e-4"
+44.3196 0.0465629 "h 3, nu 7e-4"
 EOD
 $series2 << EOD
-16.1149 0.0534224 "h 3, own step"
+15.7421 0.0534224 "h 3, own step"
 EOD
 $series3 << EOD
-14.2527 0.0990407 "h 3, 4 layers"
-66.0719 0.043973 "h 3, 24 layers"
+13.7043 0.0990407 "h 3, 4 layers"
+65.5366 0.043973 "h 3, 24 layers"
 EOD
 $series4 << EOD
-38.3696 0.0507992 "h 3, uncorrected"
-38.9553 0.0485193 "h 3, uncorrected, nu 6e-4"
+38.1064 0.0507992 "h 3, uncorrected"
+38.131 0.0485193 "h 3, uncorrected, nu 6e-4"
 EOD
 $series5 << EOD
-19.307 0.0541544 "wcsph ww, h 3"
+18.9404 0.0542412 "wcsph ww, h 3"
 EOD
 $series6 << EOD
-14.2527 0.05 ""
-69.139 0.05 ""
+13.7043 0.05 ""
+68.4472 0.05 ""
 EOD
 set terminal pngcairo size 900,560 font "sans,11"
 set output "study.png"
