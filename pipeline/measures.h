@@ -61,8 +61,8 @@ struct DamBreakGeometry {
 // tests/test_dam_break.cpp and docs/VALIDATION.md define them: the front is the 99.8th
 // percentile of x over particles below z = a / 4 (robust to isolated spray), plus half a
 // spacing; the column height is the highest particle within two spacings of the back wall that has
-// at least three other fluid particles within two spacings (not spray), plus half a spacing. Both
-// series start at (0, 1).
+// at least three other fluid particles within two spacings (not spray), plus half a spacing (0 when
+// the band holds only spray). Both series start at (0, 1).
 class DamBreakTrack {
 public:
   explicit DamBreakTrack(const DamBreakGeometry& geometry);

@@ -164,7 +164,7 @@ TEST(DamBreakTrack, TheColumnIgnoresALoneDropAboveIt) {
   const auto column = [&](int dropCompany) {
     ParticleSet p;
     int64_t id = 0;
-    for (int ix = 0; ix < 4; ++ix)  // a column 10 l high, two spacings wide, four deep
+    for (int ix = 0; ix < 4; ++ix)  // a column 10 l high, four spacings wide (two in the band), four deep
       for (int iy = 0; iy < 4; ++iy)
         for (int iz = 0; iz < 10; ++iz)
           p.add(float((ix + 0.5) * l), float((iy + 0.5) * l), float((iz + 0.5) * l), 0, 0, 0, 1000, 1, id++, 0);
