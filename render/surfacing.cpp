@@ -110,6 +110,21 @@ constexpr int kBinDim = 4;
 // Four floats as one SSE/NEON register (GCC and Clang vector extension).
 typedef float Float4 __attribute__((vector_size(16)));
 
+// Adds s max(0, w)^2 to a row of 8 voxels, w given as two 4-wide vectors (the metaball kernel's
+// falloff, (1 - d^2/R^2)^2, for spheres and ellipsoids alike).
+inline void addFalloffRow(float* row, Float4 w0, Float4 w1, float strength) {
+  const Float4 zero = {0.0f, 0.0f, 0.0f, 0.0f};
+  w0 = w0 > zero ? w0 : zero;
+  w1 = w1 > zero ? w1 : zero;
+  Float4 r0, r1;
+  std::memcpy(&r0, row, sizeof r0);
+  std::memcpy(&r1, row + 4, sizeof r1);
+  r0 += strength * w0 * w0;
+  r1 += strength * w1 * w1;
+  std::memcpy(row, &r0, sizeof r0);
+  std::memcpy(row + 4, &r1, sizeof r1);
+}
+
 int64_t floorDiv(int64_t a, int64_t b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
 
 Coord unpackLeafOrigin(uint64_t key) {
@@ -171,7 +186,6 @@ void splatEllipsoid(float* field, const openvdb::Vec3d& rel, const VoxelEllipsoi
   Float4 dz0, dz1;
   std::memcpy(&dz0, &dz[0], sizeof dz0);
   std::memcpy(&dz1, &dz[4], sizeof dz1);
-  const Float4 zero = {0.0f, 0.0f, 0.0f, 0.0f};
   for (int x = lo[0]; x <= hi[0]; ++x) {
     const float dx = float(x) - px;
     for (int y = lo[1]; y <= hi[1]; ++y) {
@@ -181,16 +195,7 @@ void splatEllipsoid(float* field, const openvdb::Vec3d& rel, const VoxelEllipsoi
       const float c1 = 2.0f * (mxz * dx + myz * dy);
       if (c0 - c1 * c1 / (4.0f * mzz) >= 1.0f) continue;
       float* row = &field[static_cast<size_t>((x << (2 * kLeafLog2)) | (y << kLeafLog2))];
-      Float4 w0 = 1.0f - (c0 + dz0 * (c1 + mzz * dz0)), w1 = 1.0f - (c0 + dz1 * (c1 + mzz * dz1));
-      w0 = w0 > zero ? w0 : zero;
-      w1 = w1 > zero ? w1 : zero;
-      Float4 r0, r1;
-      std::memcpy(&r0, row, sizeof r0);
-      std::memcpy(&r1, row + 4, sizeof r1);
-      r0 += strength * w0 * w0;
-      r1 += strength * w1 * w1;
-      std::memcpy(row, &r0, sizeof r0);
-      std::memcpy(row + 4, &r1, sizeof r1);
+      addFalloffRow(row, 1.0f - (c0 + dz0 * (c1 + mzz * dz0)), 1.0f - (c0 + dz1 * (c1 + mzz * dz1)), strength);
     }
   }
 }
@@ -343,22 +348,12 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::v
               Float4 wz0, wz1;
               std::memcpy(&wz0, &wz[0], sizeof wz0);
               std::memcpy(&wz1, &wz[4], sizeof wz1);
-              const Float4 zero = {0.0f, 0.0f, 0.0f, 0.0f};
               for (int x = lo[0]; x <= hi[0]; ++x)
                 for (int y = lo[1]; y <= hi[1]; ++y) {
                   const float dxy = wx[x] + wy[y];
                   if (dxy >= 1.0f) continue;
                   float* row = &field[static_cast<size_t>((x << (2 * kLeafLog2)) | (y << kLeafLog2))];
-                  Float4 w0 = 1.0f - (dxy + wz0), w1 = 1.0f - (dxy + wz1);
-                  w0 = w0 > zero ? w0 : zero;
-                  w1 = w1 > zero ? w1 : zero;
-                  Float4 r0, r1;
-                  std::memcpy(&r0, row, sizeof r0);
-                  std::memcpy(&r1, row + 4, sizeof r1);
-                  r0 += strength * w0 * w0;
-                  r1 += strength * w1 * w1;
-                  std::memcpy(row, &r0, sizeof r0);
-                  std::memcpy(row + 4, &r1, sizeof r1);
+                  addFalloffRow(row, 1.0f - (dxy + wz0), 1.0f - (dxy + wz1), strength);
                 }
             }
           }

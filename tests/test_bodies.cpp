@@ -60,26 +60,6 @@ BodyParams boxSceneBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max, 
   return b;
 }
 
-struct Extent {
-  Eigen::Vector3f min = Eigen::Vector3f::Constant(1e9f), max = Eigen::Vector3f::Constant(-1e9f);
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-  size_t count = 0;
-};
-
-Extent bodyExtent(const ParticleSet& p, int kind) {
-  Extent e;
-  for (size_t i = 0; i < p.size(); ++i)
-    if (p.kind[i] == kind) {
-      const Eigen::Vector3f x(p.x[i], p.y[i], p.z[i]);
-      e.min = e.min.cwiseMin(x);
-      e.max = e.max.cwiseMax(x);
-      e.centre += x.cast<double>();
-      ++e.count;
-    }
-  if (e.count) e.centre /= double(e.count);
-  return e;
-}
-
 double kineticEnergy(const ParticleSet& p) {
   double e = 0.0;
   for (size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
@@ -104,7 +84,7 @@ double freeSurface(const ParticleSet& p, double cx, double cy, double clear, flo
 
 // Submerged fraction: the share of the body's particles whose centre lies below the free surface.
 double submergedFraction(const ParticleSet& p, float spacing) {
-  const Extent e = bodyExtent(p, 1);
+  const pipeline::KindExtent e = pipeline::kindExtent(p, 1);
   const double surface = freeSurface(p, e.centre.x(), e.centre.y(), 3.0, spacing);
   size_t below = 0;
   for (size_t i = 0; i < p.size(); ++i) below += p.kind[i] == 1 && p.z[i] < surface;
@@ -243,12 +223,12 @@ TEST(ImplicitDamper, NeverAddsEnergyAndLetsABodyFallFreely) {
   world.bodies.push_back(box);
   Simulation sim(world);
   sim.advanceTo(1.0);
-  const Extent e = bodyExtent(sim.particles(), 1);
+  const pipeline::KindExtent e = pipeline::kindExtent(sim.particles(), 1);
   EXPECT_NEAR(e.centre.z(), 8.0 - 0.5 * 6.0 * 1.0, 0.05);  // z = z0 - g t^2 / 2
 }
 
 double radiusOfGyration(const ParticleSet& p) {
-  const Extent e = bodyExtent(p, 1);
+  const pipeline::KindExtent e = pipeline::kindExtent(p, 1);
   double sum = 0.0;
   for (size_t i = 0; i < p.size(); ++i)
     if (p.kind[i] == 1) sum += (Eigen::Vector3d(p.x[i], p.y[i], p.z[i]) - e.centre).squaredNorm();
@@ -373,7 +353,7 @@ TEST(Pins, HoldTheirParticlesInPlace) {
     EXPECT_EQ(Eigen::Vector3f(now.x[i], now.y[i], now.z[i]), x0);
   }
   EXPECT_EQ(pinned, 3u * 44u);  // the outer ring of a 12 x 12 sheet, 3 layers
-  EXPECT_LT(bodyExtent(now, 1).min.z(), 7.0f) << "the middle sags under its weight";
+  EXPECT_LT(pipeline::kindExtent(now, 1).min.z(), 7.0f) << "the middle sags under its weight";
 }
 
 TEST(Pins, AHeldBodyStaysWhereItWasBuiltUntilItsReleaseThenFalls) {
@@ -383,12 +363,12 @@ TEST(Pins, AHeldBodyStaysWhereItWasBuiltUntilItsReleaseThenFalls) {
   world.bodies.back().holdUntil = 0.5f;
   world.timeStep.maxStep = 0.001f;  // symplectic Euler falls g dt t farther than the exact fall
   Simulation sim(world);
-  const double z0 = bodyExtent(sim.particles(), 1).centre.z();
+  const double z0 = pipeline::kindExtent(sim.particles(), 1).centre.z();
   sim.advanceTo(0.45);
-  EXPECT_EQ(bodyExtent(sim.particles(), 1).centre.z(), z0) << "held";
+  EXPECT_EQ(pipeline::kindExtent(sim.particles(), 1).centre.z(), z0) << "held";
   EXPECT_TRUE(sim.stats().stageRan(Stage::Pins));
   sim.advanceTo(1.0);
-  const double fallen = z0 - bodyExtent(sim.particles(), 1).centre.z();
+  const double fallen = z0 - pipeline::kindExtent(sim.particles(), 1).centre.z();
   EXPECT_NEAR(fallen, 0.5 * 6.0 * 0.5 * 0.5, 0.05) << "free fall from the release at 0.5 s";
 }
 
@@ -715,9 +695,9 @@ TEST(WettedWalls, DfsphBuoyantBoxLeavesTheFloor) {
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(12, 12, 6)});
   p.bodies.push_back(boxSceneBody({4.5f, 4.5f, 0.0f}, {7.5f, 7.5f, 3.0f}, 0.7f));
   Simulation sim(p);
-  const float start = bodyExtent(sim.particles(), 1).centre.z();
+  const float start = pipeline::kindExtent(sim.particles(), 1).centre.z();
   sim.advanceTo(3.0);
-  const Extent e = bodyExtent(sim.particles(), 1);
+  const pipeline::KindExtent e = pipeline::kindExtent(sim.particles(), 1);
   std::printf("box centre %.2f m at t = 0, %.2f m at t = 3 s; lowest particle %.2f m\n", start, e.centre.z(), e.min.z());
   EXPECT_GT(e.centre.z(), start + 1.0f) << "rose from the floor";
 }
@@ -734,7 +714,7 @@ TEST(BoxSequenceAsRun, DfsphStaysFiniteThroughTheReleaseOnTheFloor) {
   for (int f = 1; f <= frames; ++f) ASSERT_NO_THROW(sim.advanceTo(scene.output.frameTime(f))) << "frame " << f;
   const ParticleSet& p = sim.particles();
   for (size_t i = 0; i < p.size(); ++i) ASSERT_TRUE(std::isfinite(p.vx[i] + p.vy[i] + p.vz[i])) << i;
-  EXPECT_GT(bodyExtent(p, 1).min.z(), 0.5f) << "risen off the floor by t = 18 s";
+  EXPECT_GT(pipeline::kindExtent(p, 1).min.z(), 0.5f) << "risen off the floor by t = 18 s";
 }
 
 // The paper's Fig. 3 with scenes/box.json: the state at the end of each phase of its force schedule.
@@ -754,7 +734,7 @@ TEST_P(BoxSequence, FollowsThePaper) {
   const float l = scene.sim.fluid.spacing;
   auto state = [&](double t) {
     sim.advanceTo(t);
-    return std::make_pair(submergedFraction(sim.particles(), l), bodyExtent(sim.particles(), 1));
+    return std::make_pair(submergedFraction(sim.particles(), l), pipeline::kindExtent(sim.particles(), 1));
   };
   const auto [floating, floatingBox] = state(6.0);
   EXPECT_GT(floating, 0.5) << "floats";
