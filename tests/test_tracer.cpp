@@ -80,6 +80,30 @@ kr::RenderScene darkScene() {
   return scene;
 }
 
+// A plain white Lambertian ground (albedo 1, no checker).
+void addWhiteGround(kr::RenderScene& scene) {
+  scene.ground.enabled = true;
+  scene.ground.checkerSize = 0.0f;
+  scene.ground.albedoA = {1, 1, 1};
+}
+
+// A sun of irradiance pi travelling along `direction`: a white Lambertian surface facing it
+// reflects radiance 1.
+void setSun(kr::RenderScene& scene, const Vector3f& direction, float angularDiameterDegrees) {
+  scene.sun.direction = direction;
+  scene.sun.irradiance = {kPi, kPi, kPi};
+  scene.sun.angularDiameterDegrees = angularDiameterDegrees;
+}
+
+kr::RenderSettings renderSettings(int width, int height, int samplesPerPixel, int maxDepth) {
+  kr::RenderSettings settings;
+  settings.width = width;
+  settings.height = height;
+  settings.samplesPerPixel = samplesPerPixel;
+  settings.maxDepth = maxDepth;
+  return settings;
+}
+
 }  // namespace
 
 TEST(Tracer, EmptySceneShowsSkyGradient) {
@@ -172,19 +196,11 @@ TEST(Tracer, SunWithAngularSizeGivesHalfLightOnTheShadowEdge) {
   half.triangles = {{0, 1, 2}, {0, 2, 3}};
   kr::RenderScene scene = darkScene();
   scene.meshes.push_back({&half, {}});
-  scene.sun.direction = {0, 0, -1};
-  scene.sun.irradiance = {kPi, kPi, kPi};
-  scene.sun.angularDiameterDegrees = 2.0f;
-  scene.ground.enabled = true;
-  scene.ground.checkerSize = 0.0f;
-  scene.ground.albedoA = {1, 1, 1};
+  setSun(scene, Vector3f{0, 0, -1}, 2.0f);
+  addWhiteGround(scene);
   scene.camera.position = {0, -2, 5};
   scene.camera.lookAt = {0, 0, 0};
-  kr::RenderSettings settings;
-  settings.width = 1;
-  settings.height = 1;
-  settings.samplesPerPixel = 2048;
-  settings.maxDepth = 1;
+  kr::RenderSettings settings = renderSettings(1, 1, 2048, 1);
   scene.camera.verticalFovDegrees = 0.3f;
   const float edge = kr::renderFrame(scene, settings).at(0, 0).x();
   EXPECT_NEAR(edge, 0.5f, 0.06f);
@@ -214,17 +230,11 @@ TEST(Tracer, RectLightIrradianceMatchesTheFormFactor) {
   light.edgeV = {2, 0, 0};  // edgeU x edgeV = (0, 0, -4): emits downwards
   light.radiance = {3, 3, 3};
   scene.rectLights.push_back(light);
-  scene.ground.enabled = true;
-  scene.ground.checkerSize = 0.0f;
-  scene.ground.albedoA = {1, 1, 1};
+  addWhiteGround(scene);
   scene.camera.position = {0, -4, 1};
   scene.camera.lookAt = {0, 0, 0};
   scene.camera.verticalFovDegrees = 0.5f;
-  kr::RenderSettings settings;
-  settings.width = 3;
-  settings.height = 3;
-  settings.samplesPerPixel = 1024;
-  settings.maxDepth = 1;
+  kr::RenderSettings settings = renderSettings(3, 3, 1024, 1);
   const kr::Image image = kr::renderFrame(scene, settings);
   const float X = 0.5f, Y = 0.5f;
   const float corner = (X / std::sqrt(1 + X * X) * std::atan(Y / std::sqrt(1 + X * X)) +
@@ -288,9 +298,7 @@ TEST(Tracer, VertexNormalsAreInterpolatedAcrossFlatTriangle) {
   kr::TriangleMesh smooth = flat;
   smooth.normals = {Vector3f(-2, -1, 0).normalized(), Vector3f(2, -1, 0).normalized(), {0, -1, 0}};
   kr::RenderScene scene = darkScene();
-  scene.sun.direction = {0, 1, 0};  // along the view direction: shading = n . (0, -1, 0)
-  scene.sun.irradiance = {kPi, kPi, kPi};
-  scene.sun.angularDiameterDegrees = 0.0f;
+  setSun(scene, Vector3f{0, 1, 0}, 0.0f);  // along the view direction: shading = n . (0, -1, 0)
   kr::RenderSettings settings;
   settings.width = 64;
   settings.height = 64;
@@ -444,19 +452,11 @@ TEST(Tracer, TransmissiveShadowsPassWaterWithFresnelAndAbsorption) {
   glass.absorption = {0.5f, 0.5f, 0.5f};
   kr::RenderScene scene = darkScene();
   scene.meshes.push_back({&slab, glass});
-  scene.sun.direction = {0, 0, -1};
-  scene.sun.irradiance = {kPi, kPi, kPi};
-  scene.sun.angularDiameterDegrees = 0.0f;
-  scene.ground.enabled = true;
-  scene.ground.checkerSize = 0.0f;
-  scene.ground.albedoA = {1, 1, 1};
+  setSun(scene, Vector3f{0, 0, -1}, 0.0f);
+  addWhiteGround(scene);
   scene.camera.position = {0, -2, 0.5f};
   scene.camera.lookAt = {0, 0, 0};
-  kr::RenderSettings settings;
-  settings.width = 3;
-  settings.height = 3;
-  settings.samplesPerPixel = 4;
-  settings.maxDepth = 1;
+  kr::RenderSettings settings = renderSettings(3, 3, 4, 1);
   const float expected = 0.96f * 0.96f * std::exp(-0.5f);
   EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), expected, 5e-4f);
   settings.transmissiveShadows = false;
@@ -569,15 +569,9 @@ TEST(Tracer, TubeIsLambertShadedWithItsOutwardNormalAndCastsAShadow) {
   white.albedo = {1, 1, 1};
   const float r = 0.5f;
   scene.curves.push_back(tubeAlongX({-2, 0, 2}, r, r, white));
-  scene.sun.direction = {0, 1, 0};
-  scene.sun.irradiance = {kPi, kPi, kPi};
-  scene.sun.angularDiameterDegrees = 0.0f;
+  setSun(scene, Vector3f{0, 1, 0}, 0.0f);
   scene.camera.verticalFovDegrees = 12.0f;
-  kr::RenderSettings settings;
-  settings.width = 64;
-  settings.height = 201;
-  settings.samplesPerPixel = 4;
-  settings.maxDepth = 1;
+  kr::RenderSettings settings = renderSettings(64, 201, 4, 1);
   const kr::Image image = kr::renderFrame(scene, settings);
   const float tanHalf = std::tan(0.5f * scene.camera.verticalFovDegrees * kPi / 180.0f);
   int checked = 0;
@@ -598,10 +592,8 @@ TEST(Tracer, TubeIsLambertShadedWithItsOutwardNormalAndCastsAShadow) {
   // A sun travelling along (0, 1, -1) casts the tube's shadow on the ground z = -1 over the strip
   // |y - 1| < r sqrt(2): black there (black sky, direct light only), E cos 45 / pi = 0.707 beside
   // it (|y - 1| = 1.2). The camera on the +y side sees both points past the tube.
-  scene.ground.enabled = true;
+  addWhiteGround(scene);
   scene.ground.point = {0, 0, -1};
-  scene.ground.checkerSize = 0.0f;
-  scene.ground.albedoA = {1, 1, 1};
   scene.sun.direction = {0, 1, -1};
   scene.camera.position = {0, 8, 6};
   scene.camera.lookAt = {0, 1, -1};
@@ -678,11 +670,7 @@ TEST(Tracer, AbsorbingDielectricTubeAcrossItsDiameterFollowsBeerLambert) {
   glass.absorption = {0.5f, 0.1f, 0.0f};
   scene.curves.push_back(tubeAlongX({-2, 0, 2}, 1.0f, 1.0f, glass));
   scene.camera.verticalFovDegrees = 0.2f;
-  kr::RenderSettings settings;
-  settings.width = 1;
-  settings.height = 1;
-  settings.samplesPerPixel = 4096;
-  settings.maxDepth = 64;
+  kr::RenderSettings settings = renderSettings(1, 1, 4096, 64);
   const Vector3f v = kr::renderFrame(scene, settings).at(0, 0).head<3>();
   const float f0 = (0.5f / 2.5f) * (0.5f / 2.5f);
   for (int c = 0; c < 3; ++c) {
