@@ -26,6 +26,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using kurage::test::expectErrorNamingPath;
 using kurage::test::TempDir;
 
 // n particles: a dense block plus outliers up to +-1000 m and tiny magnitudes, shuffled ids.
@@ -154,18 +155,6 @@ TEST(ParticleCache, EmptyFrameRoundTrips) {
   const ParticleFrame read = readParticleFrame(path);
   EXPECT_EQ(read.size(), 0u);
   expectSameFrame(frame, read);
-}
-
-// Expects `call` to throw std::runtime_error whose message names `path` (and `detail`).
-template <typename Call>
-void expectErrorNamingPath(Call call, const fs::path& path, const std::string& detail = "") {
-  try {
-    call();
-    ADD_FAILURE() << "no exception for " << path;
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(detail), std::string::npos) << e.what();
-  }
 }
 
 TEST(ParticleCache, MissingTruncatedAndForeignFilesThrowNamingThePath) {

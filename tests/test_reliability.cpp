@@ -34,6 +34,7 @@ namespace kurage::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
+using kurage::test::expectErrorNamingPath;
 using kurage::test::TempDir;
 
 const fs::path kTinyScene = test::sourceDir() / "tests/scenes/tiny_dam_break.json";
@@ -93,18 +94,6 @@ ParticleFrame smallFrame(size_t n, unsigned seed, int number = 3) {
   return f;
 }
 
-// Expects `call` to throw std::runtime_error naming `path` (and containing `detail`).
-template <typename Call>
-void expectErrorNaming(Call call, const fs::path& path, const std::string& detail = "") {
-  try {
-    call();
-    ADD_FAILURE() << "no exception for " << path;
-  } catch (const std::runtime_error& e) {
-    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(detail), std::string::npos) << e.what();
-  }
-}
-
 // ---- the I/O layer ----------------------------------------------------------------------------
 
 TEST(AtomicFile, TemporariesAreUniqueHiddenAndRemovedOnFailure) {
@@ -127,8 +116,8 @@ TEST(AtomicFile, TemporariesAreUniqueHiddenAndRemovedOnFailure) {
   EXPECT_EQ(readFile(target), "hello");
   writeFileAtomic(target, "again");  // replaces
   EXPECT_EQ(readFile(target), "again");
-  expectErrorNaming([&] { writeFileAtomic(dir.path() / "no/such/folder/x", "x"); }, dir.path() / "no/such/folder/x");
-  expectErrorNaming([&] { readFile(dir.path() / "missing"); }, dir.path() / "missing", "No such file");
+  expectErrorNamingPath([&] { writeFileAtomic(dir.path() / "no/such/folder/x", "x"); }, dir.path() / "no/such/folder/x");
+  expectErrorNamingPath([&] { readFile(dir.path() / "missing"); }, dir.path() / "missing", "No such file");
   EXPECT_TRUE(temporariesIn(dir.path()).empty());
 }
 
@@ -276,7 +265,7 @@ void expectEveryDamageCaught(const fs::path& good, const fs::path& folder, Read 
   const auto check = [&](const std::string& damaged, const std::string& what) {
     std::ofstream(bad, std::ios::binary | std::ios::trunc) << damaged;
     SCOPED_TRACE(what);
-    expectErrorNaming([&] { read(bad); }, bad);
+    expectErrorNamingPath([&] { read(bad); }, bad);
   };
   for (const size_t keep : {bytes.size() - 10, bytes.size() - 1, bytes.size() / 2, size_t(100), size_t(8), size_t(0)})
     check(bytes.substr(0, keep), "cut to " + std::to_string(keep) + " bytes");
@@ -320,23 +309,23 @@ TEST(FilesCannotLie, ForeignWrongTypeAndWrongFrameFilesAreRefused) {
   const render::LevelSet blob = render::buildMetaballLevelSet({Eigen::Vector3f::Zero()}, render::MetaballParams{});
   writeSurfaceFile(surface, {{"fluid", &blob}}, 0.5, 3, "00000000000000aa");
   // Another scene's file.
-  expectErrorNaming([&] { readParticleFrame(cache, {"sim", "00000000000000bb", 3}); }, cache, "other scene parameters");
-  expectErrorNaming([&] { readSurfaceFile(surface, {"surface", "00000000000000bb", 3}); }, surface,
+  expectErrorNamingPath([&] { readParticleFrame(cache, {"sim", "00000000000000bb", 3}); }, cache, "other scene parameters");
+  expectErrorNamingPath([&] { readSurfaceFile(surface, {"surface", "00000000000000bb", 3}); }, surface,
                     "other scene parameters");
   // Another frame's file.
-  expectErrorNaming([&] { readParticleFrame(cache, {"sim", "00000000000000aa", 4}); }, cache, "holds frame 3");
-  expectErrorNaming([&] { readSurfaceFile(surface, {"surface", "00000000000000aa", 4}); }, surface, "holds frame 3");
+  expectErrorNamingPath([&] { readParticleFrame(cache, {"sim", "00000000000000aa", 4}); }, cache, "holds frame 3");
+  expectErrorNamingPath([&] { readSurfaceFile(surface, {"surface", "00000000000000aa", 4}); }, surface, "holds frame 3");
   // The wrong kind of file.
-  expectErrorNaming([&] { readParticleFrame(surface); }, surface, "wrong kind of file");
-  expectErrorNaming([&] { readSurfaceFile(cache); }, cache, "wrong kind of file");
+  expectErrorNamingPath([&] { readParticleFrame(surface); }, surface, "wrong kind of file");
+  expectErrorNamingPath([&] { readSurfaceFile(cache); }, cache, "wrong kind of file");
   // An OpenVDB file kurage did not stamp (another program's, or an older kurage's).
   const fs::path plain = dir.path() / "plain.vdb";
   {
     std::ofstream out(plain, std::ios::binary);
     render::writeLevelSets(out, {{"fluid", &blob}}, render::LevelSetFileInfo{});
   }
-  expectErrorNaming([&] { readSurfaceFile(plain); }, plain, "not a kurage file");
-  expectErrorNaming([&] { readParticleFrame(plain); }, plain, "not a kurage file");
+  expectErrorNamingPath([&] { readSurfaceFile(plain); }, plain, "not a kurage file");
+  expectErrorNamingPath([&] { readParticleFrame(plain); }, plain, "not a kurage file");
   // The right expectations pass.
   EXPECT_EQ(readParticleFrame(cache, {"sim", "00000000000000aa", 3}).sceneHash, "00000000000000aa");
   EXPECT_EQ(readSurfaceFile(surface, {"surface", "00000000000000aa", 3}).size(), 1u);

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <random>
+#include <stdexcept>
 #include <fcntl.h>
 #include <string>
 #include <sys/wait.h>
@@ -72,6 +73,18 @@ inline int waitFor(pid_t pid) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// Expects `call` to throw std::runtime_error whose message names `path` (and contains `detail`).
+template <typename Call>
+void expectErrorNamingPath(Call call, const std::filesystem::path& path, const std::string& detail = "") {
+  try {
+    call();
+    ADD_FAILURE() << "no exception for " << path;
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(path.string()), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(detail), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace kurage::test
