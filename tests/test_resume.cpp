@@ -198,6 +198,9 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
       << readText(log);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // 20 trials: a fresh run killed at a random moment of its length, then resumed to the end.
+  // The length is the reference's; a trial that ends before its moment (the reference ran
+  // while another test loaded the machine: under ctest -j2, 11 of 20 were killed) sets the
+  // length for the trials after it.
   std::mt19937 rng(20261125);
   std::uniform_real_distribution<double> moment(0.02 * seconds, 0.95 * seconds);
   const auto argsFor = [&](const fs::path& folder) {
@@ -209,10 +212,22 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
   for (int k = 0; k < 20; ++k) {
     const fs::path trial = dir.path() / ("trial" + std::to_string(k));
     const pid_t pid = test::startKurage(argsFor(trial), log);
+    const auto began = std::chrono::steady_clock::now();
     const double at = moment(rng);
-    std::this_thread::sleep_for(std::chrono::duration<double>(at));
-    ::kill(pid, SIGKILL);
-    if (test::waitFor(pid) == 128 + SIGKILL) ++killed;
+    const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count(); };
+    bool ended = false;  // reaped before its moment (then it must not be signalled)
+    while (!ended && since() < at) {
+      int status = 0;
+      ended = ::waitpid(pid, &status, WNOHANG) == pid;
+      if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    if (ended) {
+      const double length = since();
+      moment = std::uniform_real_distribution<double>(0.02 * length, 0.95 * length);
+    } else {
+      ::kill(pid, SIGKILL);
+      if (test::waitFor(pid) == 128 + SIGKILL) ++killed;
+    }
     bool temporaries = false;
     for (const auto& entry : fs::recursive_directory_iterator(trial)) temporaries |= entry.path().extension() == ".tmp";
     duringWrites += temporaries;
