@@ -6,6 +6,7 @@
 #include "pipeline/scene.h"
 #include "sim/body_shapes.h"
 #include "sim/simulation.h"
+#include "sim_util.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -16,6 +17,8 @@
 
 using namespace kurage;
 using namespace kurage::sim;
+using kurage::test::boxBody;
+using kurage::test::kineticEnergy;
 
 namespace {
 
@@ -41,15 +44,6 @@ BodyParams shellBody(const Eigen::Vector3f& center, const Eigen::Vector3f& axis)
   return b;
 }
 
-BodyParams boxBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max) {
-  BodyParams b;
-  b.name = "box";
-  b.shape = BodyShape::Box;
-  b.min = min;
-  b.max = max;
-  return b;
-}
-
 // scenes/box.json's body (k = 10000 N/m, d = 15000, connection radius 2.4 m) over the given box.
 BodyParams boxSceneBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max, float specificGravity) {
   BodyParams b = boxBody(min, max);
@@ -58,12 +52,6 @@ BodyParams boxSceneBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max, 
   b.damping = 15000.0f;
   b.connectionRadius = 2.4f;
   return b;
-}
-
-double kineticEnergy(const ParticleSet& p) {
-  double e = 0.0;
-  for (size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
-  return e;
 }
 
 // The free surface height: over 1 m columns farther than `clear` from (cx, cy), the mean height

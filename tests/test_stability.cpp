@@ -6,6 +6,7 @@
 #include "pipeline/io/files.h"
 #include "pipeline/measures.h"
 #include "sim/simulation.h"
+#include "sim_util.h"
 #include "test_util.h"
 
 #include <nlohmann/json.hpp>
@@ -22,6 +23,8 @@
 
 using namespace kurage;
 using namespace kurage::sim;
+using kurage::test::boxBody;
+using kurage::test::kineticEnergy;
 
 namespace {
 
@@ -41,12 +44,6 @@ void expectHealthy(const Simulation& sim, const std::string& where) {
 }
 
 std::string at(const Simulation& sim) { return "t = " + std::to_string(sim.time()) + " s"; }
-
-double kineticEnergy(const ParticleSet& p) {
-  double e = 0.0;
-  for (size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
-  return e;
-}
 
 // Gravitational potential energy above the container's floor (gravity along -z).
 double potentialEnergy(const Simulation& sim) {
@@ -96,15 +93,6 @@ public:
 private:
   std::chrono::steady_clock::time_point start_;
 };
-
-BodyParams boxBody(const Eigen::Vector3f& min, const Eigen::Vector3f& max) {
-  BodyParams b;
-  b.name = "box";
-  b.shape = BodyShape::Box;
-  b.min = min;
-  b.max = max;
-  return b;
-}
 
 BodyParams pinnedMembrane(const Eigen::Vector3f& min, const Eigen::Vector3f& max) {
   BodyParams b;

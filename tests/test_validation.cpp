@@ -1,6 +1,7 @@
 // Validation of the fluid against known answers (label `validation`): emitted volume, sinks,
 // hydrostatic pressure, and the paper's own parameters staying finite.
 #include "sim/simulation.h"
+#include "sim_util.h"
 
 #include <gtest/gtest.h>
 
@@ -9,14 +10,9 @@
 #include <numbers>
 
 using namespace kurage::sim;
+using kurage::test::kineticEnergy;
 
 namespace {
-
-double kineticEnergy(const ParticleSet& s) {
-  double e = 0.0;
-  for (size_t i = 0; i < s.size(); ++i) e += 0.5 * s.mass[i] * (s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i]);
-  return e;
-}
 
 void expectFiniteAndInside(const Simulation& sim) {
   const ParticleSet& s = sim.particles();
