@@ -311,7 +311,7 @@ TEST(FilesCannotLie, ForeignWrongTypeAndWrongFrameFilesAreRefused) {
   // Another scene's file.
   expectErrorNamingPath([&] { readParticleFrame(cache, {"sim", "00000000000000bb", 3}); }, cache, "other scene parameters");
   expectErrorNamingPath([&] { readSurfaceFile(surface, {"surface", "00000000000000bb", 3}); }, surface,
-                    "other scene parameters");
+                        "other scene parameters");
   // Another frame's file.
   expectErrorNamingPath([&] { readParticleFrame(cache, {"sim", "00000000000000aa", 4}); }, cache, "holds frame 3");
   expectErrorNamingPath([&] { readSurfaceFile(surface, {"surface", "00000000000000aa", 4}); }, surface, "holds frame 3");

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstring>
@@ -198,9 +199,9 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
       << readText(log);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // 20 trials: a fresh run killed at a random moment of its length, then resumed to the end.
-  // The length is the reference's; a trial that ends before its moment (the reference ran
-  // while another test loaded the machine: under ctest -j2, 11 of 20 were killed) sets the
-  // length for the trials after it.
+  // The length is the reference's, unless a trial ends before its moment: then that trial's
+  // length is used from there on, so the range only shrinks. (The reference may have shared
+  // the machine with another test under ctest -j2; once only 11 of 20 trials were killed.)
   std::mt19937 rng(20261125);
   std::uniform_real_distribution<double> moment(0.02 * seconds, 0.95 * seconds);
   const auto argsFor = [&](const fs::path& folder) {
@@ -216,12 +217,15 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
     const double at = moment(rng);
     const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count(); };
     bool ended = false;  // reaped before its moment (then it must not be signalled)
+    int status = 0;
     while (!ended && since() < at) {
-      int status = 0;
-      ended = ::waitpid(pid, &status, WNOHANG) == pid;
+      const pid_t reaped = ::waitpid(pid, &status, WNOHANG);
+      ASSERT_NE(reaped, -1) << std::strerror(errno);
+      ended = reaped == pid;
       if (!ended) std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     if (ended) {
+      ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "a trial failed on its own\n" << readText(log);
       const double length = since();
       moment = std::uniform_real_distribution<double>(0.02 * length, 0.95 * length);
     } else {
@@ -232,7 +236,7 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
     for (const auto& entry : fs::recursive_directory_iterator(trial)) temporaries |= entry.path().extension() == ".tmp";
     duringWrites += temporaries;
     ASSERT_EQ(test::waitFor(test::startKurage(argsFor(trial), log)), 0) << readText(log);
-    EXPECT_EQ(outputsOf(trial), expected) << "killed at " << at << " s";
+    EXPECT_EQ(outputsOf(trial), expected) << (ended ? "ended before its moment, " : "killed at ") << at << " s";
     EXPECT_EQ(nlohmann::json::parse(readText(trial / "run.json"))["status"], "complete");
     for (const auto& entry : fs::recursive_directory_iterator(trial))
       EXPECT_NE(entry.path().extension(), ".tmp") << "left behind: " << entry.path();
