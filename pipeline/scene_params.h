@@ -147,6 +147,8 @@ inline const EnumTable<sim::BodyShape> kBodyShape{{"box", sim::BodyShape::Box},
 inline const EnumTable<sim::SelectionKind> kSelectionKind{{"all", sim::SelectionKind::All},
                                                           {"rim", sim::SelectionKind::Rim},
                                                           {"region", sim::SelectionKind::Region}};
+inline const EnumTable<sim::BodyCoupling> kBodyCoupling{{"solved", sim::BodyCoupling::Solved},
+                                                       {"boundary", sim::BodyCoupling::Boundary}};
 inline const EnumTable<sim::TelescopicMeasure> kTelescopicMeasure{{"isotropic", sim::TelescopicMeasure::Isotropic},
                                                                    {"stretch_only", sim::TelescopicMeasure::StretchOnly}};
 inline const EnumTable<sim::Damper> kDamper{{"implicit", sim::Damper::Implicit}, {"explicit", sim::Damper::Explicit}};
@@ -251,6 +253,12 @@ void describe(V& v, sim::BodyParams& p) {
                      "shortened spring raises it; 'stretch_only' (ours) = min(1, (8)): a stretch lowers it as in the "
                      "paper, a shortening leaves it (a wall that a ring muscle shortens in one direction keeps its "
                      "volume; docs/PHYSICS.md 'The jellyfish')"});
+  v.enumeration("coupling", p.coupling, kBodyCoupling,
+                {"", "how the fluid's pressure meets the body: 'solved' = its particles are unknowns of the pressure "
+                     "solves with their own rest density, like fluid particles (the paper's coupling); 'boundary' "
+                     "(ours, dfsph) = the fluid meets them as boundary samples whose volume m / rho0 grows with (10), "
+                     "and each one's share of the pressure is spread over its spring neighbours (docs/PHYSICS.md "
+                     "'Bodies as the fluid's boundary')"});
   v.value("bending", p.bending,
           {"N/m", "chain: bending stiffness (ours): each particle is pulled toward the line through its two neighbours "
                   "with bending x (x_prev - 2 x + x_next), the neighbours take the reaction (0 = off, the paper's chains)",

@@ -221,6 +221,8 @@ BodySystem::BodySystem(const SimParams& params, ParticleSet& particles, int64_t&
     telescopicBody_.push_back(body.telescopicDensity);
     telescopicMeasure_.push_back(body.telescopicMeasure);
     telescopic_ = telescopic_ || body.telescopicDensity;
+    boundaryBody_.push_back(body.coupling == BodyCoupling::Boundary);
+    boundaryCoupled_ = boundaryCoupled_ || body.coupling == BodyCoupling::Boundary;
     groups_.push_back({body.stiffness, body.damping, body.damper == Damper::Implicit});
     const BodyPoints& pts = built.points[b];
     for (size_t k = 0; k < pts.positions.size(); ++k) {
@@ -405,13 +407,38 @@ void BodySystem::applyPins(ParticleSet& p, double t) const {
 
 void BodySystem::markUnsolved(const ParticleSet& p, double t, std::vector<uint8_t>& state) const {
   state.assign(p.size(), kSolved);
-  if (telescopic_)
+  if (telescopic_ || boundaryCoupled_)
     for (size_t id = 0; id < indexOfId_.size(); ++id) {
       const float leng = lengthRatio_[id];  // 1 for a body without telescopic density
-      if (leng * leng * leng < kTornDensityRatio) state[indexOfId_[id]] = kTorn;
+      if (boundaryBody_[size_t(bodyOf_[id])]) state[indexOfId_[id]] = kBoundary;
+      else if (leng * leng * leng < kTornDensityRatio) state[indexOfId_[id]] = kTorn;
     }
   for (size_t k = 0; k < pinnedIds_.size(); ++k)
     if (t < pinnedUntil_[size_t(pinnedIds_[k])]) state[indexOfId_[size_t(pinnedIds_[k])]] = kHeld;
+}
+
+void BodySystem::boundaryPatches(const ParticleSet& p, BoundaryBodies& out) const {
+  const size_t n = p.size();
+  out.sample.assign(n, 0);
+  out.offsets.assign(n + 1, 0);
+  out.patch.clear();
+  out.share.assign(n, 0.0f);
+  for (size_t id = 0; id < indexOfId_.size(); ++id)
+    if (boundaryBody_[size_t(bodyOf_[id])]) out.sample[indexOfId_[id]] = 1;
+  for (size_t i = 0; i < n; ++i) {  // by sorted index, so the solver gathers in a fixed order
+    out.offsets[i] = uint32_t(out.patch.size());
+    if (!out.sample[i]) continue;
+    out.patch.push_back(uint32_t(i));
+    double mass = p.mass[i];
+    for (const SpringNetwork::End* e = springs_.begin(p.id[i]); e != springs_.end(p.id[i]); ++e) {
+      const uint32_t q = indexOfId_[e->other];
+      if (!out.sample[q]) continue;  // a chain's spring to another body: patches stay symmetric
+      out.patch.push_back(q);
+      mass += p.mass[q];
+    }
+    out.share[i] = float(p.mass[i] / mass);
+  }
+  out.offsets[n] = uint32_t(out.patch.size());
 }
 
 namespace {

@@ -18,6 +18,8 @@
 
 namespace kurage::sim {
 
+struct BoundaryBodies;  // sim/solvers/pressure_solver.h
+
 // A scene error in bodies[body]: `field` is the key below it ("" for the body itself).
 struct BodyProblem {
   size_t body = 0;
@@ -94,11 +96,18 @@ public:
   // t < hold_until.
   void applyPins(ParticleSet& particles, double t) const;
   // Per particle (resized to the particle count): kHeld for the particles applyPins holds at time
-  // t, kTorn for those of a telescopic body whose rest density (10) has fallen below
-  // kTornDensityRatio of their initial one, kSolved for every other. A solver that solves for
-  // the bodies' density leaves both out (sim/solvers/dfsph.h). After updateRestDensity.
+  // t, kBoundary for the other particles of a body coupled as the fluid's boundary, kTorn for those
+  // of a telescopic body whose rest density (10) has fallen below kTornDensityRatio of their
+  // initial one, kSolved for every other. A solver that solves for the bodies' density leaves all
+  // three out (sim/solvers/dfsph.h). After updateRestDensity.
   void markUnsolved(const ParticleSet& particles, double t, std::vector<uint8_t>& state) const;
-  bool mayLeaveParticlesUnsolved() const { return hasPins() || telescopic_; }
+  bool mayLeaveParticlesUnsolved() const { return hasPins() || telescopic_ || boundaryCoupled_; }
+  // A body with BodyCoupling::Boundary.
+  bool hasBoundaryBodies() const { return boundaryCoupled_; }
+  // The particles of the bodies coupled as the fluid's boundary and each one's patch: itself and
+  // its spring neighbours, with its share m_i / (the patch's mass) (sim/solvers/dfsph.h). After
+  // index().
+  void boundaryPatches(const ParticleSet& particles, BoundaryBodies& out) const;
   // L^dens below which a telescopic body particle counts as torn, stretched past what a solver of
   // its density can hold: (8)'s mean r0/|r| over its springs below 0.63, 1.6 times in every
   // direction for a uniform stretch. In membrane.json's sheet its own kernel's share of its density,
@@ -124,6 +133,7 @@ private:
   std::vector<float> mass_, restDensity_, meanGravity_;  // per body
   std::vector<float> particleMass_, baseDensity_;       // per id: m_i and rho0_i before (10)
   std::vector<uint8_t> telescopicBody_;    // per body
+  std::vector<uint8_t> boundaryBody_;      // per body: BodyCoupling::Boundary
   std::vector<TelescopicMeasure> telescopicMeasure_;  // per body
   std::vector<SpringGroup> groups_;        // per body
   SpringNetwork springs_;
@@ -150,6 +160,7 @@ private:
   detail::BodyCellTable cells_;  // collision grid scratch
   int fluidPass(ParticleSet& particles, double t, float cell);
   bool telescopic_ = false;
+  bool boundaryCoupled_ = false;
   float fluidContact_ = 0.0f;  // CollisionParams::fluidContact
   float springStep_ = 0.0f;
   BodyStats stats_;

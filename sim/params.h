@@ -225,6 +225,16 @@ inline float ceilingFactor(float ceiling, float band, double z) {
   return float(std::clamp((double(ceiling) - z) / double(band), 0.0, 1.0));
 }
 
+// How a body's particles meet an incompressible solver's pressure (ours; docs/PHYSICS.md, "Bodies
+// as the fluid's boundary").
+enum class BodyCoupling {
+  Solved,    // unknowns of the solves with their own rest density (10), as the paper's weak
+             // coupling computes body particles like fluid ones
+  Boundary,  // DFSPH: no unknowns; the fluid meets them as boundary samples of volume m_i / rho0_i
+             // (Akinci et al. 2012, with (10)'s telescopic volume), and each one's pressure reaction
+             // is spread over its spring patch (sim/solvers/dfsph.h)
+};
+
 // What the rest density (10) follows (SPEC §3.3).
 enum class TelescopicMeasure {
   Isotropic,    // the paper's (8): every spring's length ratio, shortened springs raise rho0
@@ -259,6 +269,7 @@ struct BodyParams {
   Damper damper = Damper::Implicit;
   bool telescopicDensity = true;    // (8)-(10); false = the paper's "conventional mass-spring model"
   TelescopicMeasure telescopicMeasure = TelescopicMeasure::Isotropic;
+  BodyCoupling coupling = BodyCoupling::Solved;
   // Chain: bending stiffness k_b (ours, N/m): each inner particle i feels k_b L_i and its two
   // neighbours -k_b L_i / 2 each, L_i = x_{i-1} - 2 x_i + x_{i+1} (the gradient of the energy
   // k_b / 4 sum |L_i|^2, zero on a straight chain; momentum-conserving). 0 = off (the paper).

@@ -12,9 +12,10 @@
 namespace kurage::sim {
 
 // What a pressure solver that solves for body particles' density must know of them, per particle
-// (BodySystem::markUnsolved, SolverContext::unsolved): a pin holds it in place, or its telescopic
-// body has been stretched past what the model covers (sim/bodies.h).
-enum UnsolvedState : uint8_t { kSolved = 0, kHeld = 1, kTorn = 2 };
+// (BodySystem::markUnsolved, SolverContext::unsolved): a pin holds it in place, its telescopic
+// body has been stretched past what the model covers (sim/bodies.h), or its body is coupled as
+// the fluid's boundary (BodyCoupling::Boundary).
+enum UnsolvedState : uint8_t { kSolved = 0, kHeld = 1, kTorn = 2, kBoundary = 3 };
 
 struct ParticleSet {
   std::vector<float> x, y, z;

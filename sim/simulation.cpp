@@ -162,6 +162,10 @@ Simulation::Simulation(SimParams params)
     emitters_.emplace_back(e, fluid.spacing);
     expected += emitters_.back().expectedTotal();
   }
+  for (size_t b = 0; b < params_.bodies.size(); ++b)
+    if (params_.bodies[b].coupling == BodyCoupling::Boundary && !solver_->couplesBoundaryBodies())
+      throw std::invalid_argument("bodies[" + std::to_string(b) + "].coupling: \"boundary\" needs a solver that couples "
+                                  "bodies as the fluid's boundary (dfsph), not " + std::string(solver_->name()));
   if (!params_.bodies.empty()) {
     bodies_ = std::make_unique<BodySystem>(params_, particles_, nextId_);  // body ids first
     removeDisplacedFluid(particles_, fluid.spacing, params_.bodies, blockPoints);
@@ -193,6 +197,7 @@ SolverContext Simulation::solverContext() {
   }
   if (solverCorrectsGradient()) c.gradientCorrection = correction_.data();
   if (!unsolved_.empty()) c.unsolved = unsolved_.data();
+  if (!boundaryBodies_.empty()) c.boundaryBodies = &boundaryBodies_;
   c.lastStep = lastStep_;
   c.gravity = params_.gravity;
   return c;
@@ -287,6 +292,7 @@ void Simulation::computeAccelerations() {
     bodies_->updateRestDensity(particles_);
   }
   if (bodies_ && bodies_->mayLeaveParticlesUnsolved()) bodies_->markUnsolved(particles_, time_, unsolved_);  // for the solver
+  if (bodies_ && bodies_->hasBoundaryBodies()) bodies_->boundaryPatches(particles_, boundaryBodies_);
   const float* boundaryVolume = nullptr;
   if (wallWeightTerms()) computeWallWeightGradient();
   if (boundary_) {
@@ -482,7 +488,9 @@ size_t Simulation::memoryBytes() const {
          (boundaryLift_.capacity() + correction_.capacity()) * sizeof(float) +
          order_.capacity() * sizeof(uint32_t) + (bodies_ ? bodies_->memoryBytes() : 0) + solver_->memoryBytes() +
          (boundaryVolume_.capacity() + boundaryGradient_.capacity()) * sizeof(float) +
-         (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0) + unsolved_.capacity();
+         (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0) + unsolved_.capacity() +
+         boundaryBodies_.sample.capacity() + (boundaryBodies_.offsets.capacity() + boundaryBodies_.patch.capacity()) * sizeof(uint32_t) +
+         boundaryBodies_.share.capacity() * sizeof(float);
 }
 
 void Simulation::advanceTo(double t) {

@@ -145,6 +145,7 @@ private:
   WallSums wallSums_;
   std::vector<float> correction_;  // kernel gradient correction, 6 floats per particle
   std::vector<uint8_t> unsolved_;  // per particle: held by a pin or torn this step (SolverContext::unsolved)
+  BoundaryBodies boundaryBodies_;  // the bodies coupled as the fluid's boundary, this step's patches
   std::vector<Emitter> emitters_;
   std::vector<uint8_t> sinkFlags_;
   int64_t nextId_ = 0;

@@ -744,7 +744,7 @@ TEST_P(BoxSequence, FollowsThePaper) {
 // The paper's Fig. 2: with the stretch-following density the membrane holds the poured fluid;
 // the conventional mass-spring model lets it slip through.
 //
-// How it holds (docs/PHYSICS.md, "Why the membrane's contrast is WCSPH's"): under WCSPH the poured
+// How it holds (docs/PHYSICS.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): under WCSPH the poured
 // fluid on the sheet has no pressure of its own (its particles lie loose, below rest density) and
 // the telescopic sheet, whose rest density fell as it stretched, carries it with its own pressure
 // (measured at 16 s: 39 kPa, the 90th percentile of the loaded sheet, against 0.8 kPa for the
@@ -811,13 +811,137 @@ TEST(Unsolved, HeldAndTornBodyParticlesAreMarked) {
   EXPECT_FALSE(plain.mayLeaveParticlesUnsolved());
 }
 
-// membrane.json under DFSPH (boundary-particle walls, hydrostatic start) runs its 16 s. It went
-// non-finite at t = 8-9 s: the solves pushed the held rim, whose warm-started pressure grew step
-// after step (8 MPa), and then a torn-off particle, its rest density under a quarter of its
-// initial one, was given a pressure without bound (sim/solvers/dfsph.h). The leak test itself is
-// not met under DFSPH (34 of 85 get through, 49 with the conventional model; study
-// membrane_dfsph), so only that the run completes with finite particles inside the tank is
-// asserted; the leak is printed.
+// A body coupled as the fluid's boundary (BodyCoupling::Boundary): every particle no unknown of the
+// solves (kBoundary; a held one kHeld), each with a patch of itself and its spring neighbours,
+// the patches symmetric and the shares m_i / (the patch's mass).
+TEST(BoundaryBodies, MarkedAndPatchedBySprings) {
+  SimParams world = emptyWorld();
+  world.fluid.solver = "dfsph";
+  world.fluid.densitySum = DensitySum::Volume;
+  BodyParams box = boxBody(Eigen::Vector3f(4, 4, 4), Eigen::Vector3f(7, 7, 7));
+  box.coupling = BodyCoupling::Boundary;
+  box.pins.push_back({SelectionKind::Region, Eigen::Vector3f(3.9f, 3.9f, 3.9f), Eigen::Vector3f(4.6f, 7.1f, 7.1f)});
+  world.bodies.push_back(box);
+  world.bodies.push_back(boxBody(Eigen::Vector3f(8, 8, 8), Eigen::Vector3f(10, 10, 10)));  // solved, unpinned
+  ParticleSet p;
+  int64_t nextId = 0;
+  BodySystem bodies(world, p, nextId);
+  ASSERT_TRUE(bodies.hasBoundaryBodies());
+  ASSERT_TRUE(bodies.mayLeaveParticlesUnsolved());
+  bodies.index(p);
+  bodies.updateRestDensity(p);
+  std::vector<uint8_t> state;
+  bodies.markUnsolved(p, 0.0, state);
+  BoundaryBodies patches;
+  bodies.boundaryPatches(p, patches);
+  ASSERT_EQ(patches.offsets.size(), p.size() + 1);
+  size_t held = 0;
+  for (size_t i = 0; i < p.size(); ++i) {
+    const bool first = p.kind[i] == 1;
+    EXPECT_EQ(patches.sample[i], first ? 1 : 0) << i;
+    if (!first) {
+      EXPECT_EQ(state[i], kSolved) << i;
+      EXPECT_EQ(patches.offsets[i + 1], patches.offsets[i]) << "no patch outside a boundary body";
+      continue;
+    }
+    held += state[i] == kHeld;
+    EXPECT_TRUE(state[i] == kBoundary || state[i] == kHeld) << i;
+    const uint32_t* begin = patches.patch.data() + patches.offsets[i];
+    const uint32_t* end = patches.patch.data() + patches.offsets[i + 1];
+    ASSERT_GT(end - begin, 1) << "itself and its spring neighbours";
+    EXPECT_EQ(*begin, i) << "itself first";
+    double mass = 0.0;
+    for (const uint32_t* q = begin; q != end; ++q) {
+      mass += p.mass[*q];
+      EXPECT_EQ(p.kind[*q], 1);
+      const uint32_t* back = patches.patch.data() + patches.offsets[*q];
+      const uint32_t* backEnd = patches.patch.data() + patches.offsets[*q + 1];
+      EXPECT_NE(std::find(back, backEnd, uint32_t(i)), backEnd) << "patches are symmetric";
+    }
+    EXPECT_NEAR(patches.share[i], p.mass[i] / mass, 1e-6);
+  }
+  EXPECT_GT(held, 0u);
+  // Under a solver that cannot couple it so, the simulation refuses the body.
+  world.fluid.solver = "wcsph";
+  EXPECT_THROW(Simulation{world}, std::invalid_argument);
+}
+
+// The coupling conserves linear momentum: a fluid block thrown at a free body coupled as the
+// fluid's boundary, without gravity and clear of the walls. The fluid's push on each sample and the
+// sample's reaction are equal and opposite, and the reaction spread over the patch keeps its
+// impulse.
+TEST(BoundaryBodies, PressureReactionsConserveMomentum) {
+  SimParams world = emptyWorld();
+  world.fluid.solver = "dfsph";
+  world.fluid.densitySum = DensitySum::Volume;
+  world.fluidBlocks.push_back({Eigen::Vector3f(2, 4, 4), Eigen::Vector3f(5, 8, 8)});
+  BodyParams box = boxBody(Eigen::Vector3f(5.75f, 4.5f, 4.5f), Eigen::Vector3f(7.25f, 7.5f, 7.5f));
+  box.coupling = BodyCoupling::Boundary;
+  box.stiffness = 2000.0f;
+  world.bodies.push_back(box);
+  Simulation sim(world);
+  ParticleSet& p = sim.particles();
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == 0) p.vx[i] = 3.0f;
+  auto momentum = [&](int kind) {
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < p.size(); ++i)
+      if (kind < 0 || p.kind[i] == kind) m += double(p.mass[i]) * Eigen::Vector3d(p.vx[i], p.vy[i], p.vz[i]);
+    return m;
+  };
+  const Eigen::Vector3d start = momentum(-1);
+  ASSERT_NO_THROW(sim.advanceTo(0.6));
+  const pipeline::KindExtent fluid = pipeline::kindExtent(p, 0);
+  ASSERT_GT(fluid.min.minCoeff(), 1.0f) << "clear of the walls";
+  ASSERT_LT(fluid.max.maxCoeff(), 11.0f) << "clear of the walls";
+  const Eigen::Vector3d end = momentum(-1);
+  std::printf("momentum %.1f -> %.1f kg m/s (body %.1f)\n", start.x(), end.x(), momentum(1).x());
+  EXPECT_GT(momentum(1).x(), 0.1 * start.x()) << "the fluid pushed the body";
+  EXPECT_LT((end - start).norm(), 1e-3 * start.norm());
+}
+
+// The paper's Fig. 2 under DFSPH: scenes/membrane_dfsph.json and its conventional twin, the sheet
+// coupled as the fluid's boundary (BodyCoupling::Boundary, docs/PHYSICS.md "Bodies as the fluid's
+// boundary"), the paper's body parameters (k = 30 N/m) and a support of 1.6 l. The fluid meets the
+// sheet's particles by their volume m / rho0, which (10) grows as the sheet stretches: the
+// telescopic sheet holds the poured fluid, the conventional one lets it slip through. Sampled
+// every 16 / 2 / 1 / 0.5 / 0.25 / 0.1 / 1/24 / 0.05 s (the scene is chaotic): 0-1 and 54-62 of 85
+// leak. No sheet particle is thrown (with the reactions on the samples alone, not spread over
+// their patches, they were, and 36-40 of 85 leaked).
+TEST(MembraneUnderDfsph, TelescopicVolumeHoldsTheFluidTheConventionalModelLeaks) {
+  std::map<bool, double> leaked;
+  for (const bool telescopic : {true, false}) {
+    const pipeline::Scene scene = sceneFile(telescopic ? "membrane_dfsph.json" : "membrane_dfsph_conventional.json");
+    ASSERT_EQ(scene.sim.fluid.solver, "dfsph");
+    ASSERT_EQ(scene.sim.bodies[0].telescopicDensity, telescopic);
+    Simulation sim(scene.sim);
+    float fastest = 0.0f;  // the fastest sheet particle at any whole second
+    for (int t = 1; t <= int(scene.output.duration); ++t) {
+      ASSERT_NO_THROW(sim.advanceTo(t));
+      const ParticleSet& p = sim.particles();
+      for (size_t i = 0; i < p.size(); ++i)
+        if (p.kind[i] == 1) fastest = std::max(fastest, std::sqrt(p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]));
+    }
+    const pipeline::MembraneLeak leak = pipeline::membraneLeak(sim.particles(), 1, scene.sim.fluid.spacing);
+    ASSERT_GT(leak.fluid, 50u);
+    leaked[telescopic] = double(leak.leaked) / double(leak.fluid);
+    std::printf("%s: %zu of %zu fluid particles below the membrane at %.0f s; the fastest sheet particle %.1f m/s\n",
+                scene.name.c_str(), leak.leaked, leak.fluid, scene.output.duration, fastest);
+    EXPECT_LT(fastest, 10.0f) << "no sheet particle thrown";
+    EXPECT_EQ(sim.solver().stats().tornSteps, 0u) << "a boundary body is never torn out of the solves";
+  }
+  EXPECT_LT(leaked[true], 0.1) << "telescopic density";
+  EXPECT_GT(leaked[false], 0.5) << "conventional mass-spring model";
+}
+
+// membrane.json (the sheet's particles unknowns of the solves) under DFSPH (boundary-particle
+// walls, hydrostatic start) runs its 16 s. It went non-finite at t = 8-9 s: the solves pushed the
+// held rim, whose warm-started pressure grew step after step (8 MPa), and then a torn-off
+// particle, its rest density under a quarter of its initial one, was given a pressure without
+// bound (sim/solvers/dfsph.h). With this coupling the leak test is not met (34 of 85 get through,
+// 49 with the conventional model; docs/investigations/pressure_solvers.md), so only that the run
+// completes with finite particles inside the tank is asserted; the leak is printed. The leak test
+// under DFSPH is the one above, with the sheet coupled as the fluid's boundary.
 TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
   const pipeline::Scene scene = sceneUnderDfsph("membrane.json");
   Simulation sim(scene.sim);
@@ -836,7 +960,7 @@ TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
               "left out of the solves in %llu steps\n",
               scene.output.duration, leak.leaked, leak.fluid, (unsigned long long)sim.solver().stats().tornSteps);
   EXPECT_GT(sim.solver().stats().tornSteps, 0u) << "the sheet tears: what the run survives";
-  // Why it leaks (docs/PHYSICS.md, "Why the membrane's contrast is WCSPH's"): the fluid on the sheet
+  // Why it leaks (docs/PHYSICS.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): the fluid on the sheet
   // is a liquid whose pressure holds its own weight (measured 15 kPa, median, at 16 s; under WCSPH
   // 0), which presses it through the stretched sheet's holes.
   const pipeline::MembraneLoad load = pipeline::membraneLoad(p, 1, scene.sim.fluid.supportRadiusMetres());
@@ -848,8 +972,8 @@ TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
 
 const auto kSolverName = [](const auto& info) { return info.param; };
 INSTANTIATE_TEST_SUITE_P(Solver, BoxSequence, ::testing::Values("wcsph", "dfsph"), kSolverName);
-// Under DFSPH the loaded membrane runs its 16 s but lets 34 of 85 through (MembraneUnderDfsph
-// above; issue 13 open, docs/PHYSICS.md): the leak test runs with WCSPH only.
+// The leak test of membrane.json (its sheet's particles unknowns of the solves) runs with WCSPH;
+// under DFSPH it is MembraneUnderDfsph above, on scenes/membrane_dfsph.json.
 INSTANTIATE_TEST_SUITE_P(Solver, Membrane, ::testing::Values("wcsph"), kSolverName);
 
 TEST(Stages, OnlyWhatTheSceneCallsForRuns) {

@@ -52,6 +52,21 @@ const BadScene kBadScenes[] = {
      }, "fluid.kernel", "dfsph's solves use the cubic spline"},
     {"GradientCorrectionOfThePapersForce", [](json& s) { s["fluid"]["gradient_correction"] = true; },
      "fluid.gradient_correction", "the paper's force \"mueller2003\" has no corrected form"},
+    {"BoundaryCouplingUnderWcsph", [](json& s) { addBox(s)["coupling"] = "boundary"; }, "bodies[0].coupling",
+     "\"boundary\" needs a solver that couples bodies as the fluid's boundary (fluid.solver \"dfsph\"), got \"wcsph\""},
+    {"BoundaryCouplingWithTheMassSum", [](json& s) {
+       s["fluid"]["solver"] = "dfsph";
+       s["fluid"]["density_sum"] = "mass";
+       addBox(s)["coupling"] = "boundary";
+     }, "bodies[0].coupling", "needs fluid.density_sum \"volume\""},
+    {"BoundaryCouplingWithConjugateGradients", [](json& s) {
+       s["fluid"]["solver"] = "dfsph";
+       s["fluid"]["density_sum"] = "volume";
+       s["fluid"]["divergence_solve"] = "cg";
+       addBox(s)["coupling"] = "boundary";
+     }, "bodies[0].coupling", "needs fluid.divergence_solve \"jacobi\""},
+    {"UnknownCoupling", [](json& s) { addBox(s)["coupling"] = "glued"; }, "bodies[0].coupling",
+     "must be one of \"solved\", \"boundary\", got \"glued\""},
     {"UnknownKernel", [](json& s) { s["fluid"]["kernel"] = "wendland"; }, "fluid.kernel",
      "must be one of \"auto\", \"mueller2003\", \"cubic_spline\", got \"wendland\""},
     {"BoundaryParticlesThinContainer", [](json& s) {

@@ -94,9 +94,12 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   const float dRef = 2.0f * kernel_.sigma * kernel_.invH;  // largest |dW/dr|, at r = h / 3
   position_.resize(n);
   velocity_.resize(n);
+  const uint8_t* sample = c.boundaryBodies ? c.boundaryBodies->sample.data() : nullptr;
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const float w = form_ == DensitySum::Mass ? p.mass[i] : p.mass[i] / p.restDensity[i];  // density rate weight
-    position_[i] = Float4{p.x[i], p.y[i], p.z[i], w};
+    // A boundary body's sample counts twice in its pairs with the fluid: the fluid particle's
+    // pressure mirrored onto it (header, "Bodies as the fluid's boundary")
+    position_[i] = Float4{p.x[i], p.y[i], p.z[i], sample && sample[i] ? kMirror * w : w};
   });
   loadVelocities(p);
   corrected_ = c.gradientCorrection != nullptr;
@@ -133,9 +136,10 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
           const float dx = xi - p.x[j], dy = yi - p.y[j], dz = zi - p.z[j];
           const float s = *slope;
           const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
-          const float w = position_[j][3];  // m_j, or V_j
+          const float w = position_[j][3];  // m_j, or V_j (mirrored for a boundary body's sample)
           F += w * grad;
-          S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * grad.squaredNorm();
+          const float own = sample && sample[j] ? w / kMirror : w;  // its own response, not mirrored
+          S += (form_ == DensitySum::Mass ? own : own / p.restDensity[j]) * grad.squaredNorm();
         }
       } else {
         // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
@@ -149,7 +153,8 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
           const float w = position_[j][3];
           plain += w * d;
           const Float4 g2 = grad * grad;
-          S += (form_ == DensitySum::Mass ? w : w / p.restDensity[j]) * (g2[0] + g2[1] + g2[2]);
+          const float own = sample && sample[j] ? w / kMirror : w;
+          S += (form_ == DensitySum::Mass ? own : own / p.restDensity[j]) * (g2[0] + g2[1] + g2[2]);
         }
         plain[3] = 0.0f;
         gradientSum_[i] = plain;  // sum_j w_j grad W_ij, the push's own term (applyPressure)
@@ -341,6 +346,8 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
   ParticleSet& p = c.particles;
   const size_t n = p.size();
   const Float4* x = position_.data();
+  const BoundaryBodies* bodies = c.boundaryBodies;
+  if (bodies) reaction_.resize(n);
   if (corrected_)
     forEach(n, [&](size_t j) {
       // w_j k_j L_j as (L00, L11, L22) and (L01, L02, L12), and w_j k_j L_j (x_j - origin)
@@ -384,16 +391,31 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
                    m1[0] * xo[0] + m1[1] * xo[1] + m0[2] * xo[2] - y2, 0.0f};
         a += ki * corrected(i, gradientSum_[i]);
       }
+      const bool sampled = bodies && bodies->sample[i];
+      if (sampled) a *= kMirror;  // a boundary body's sample: its fluid neighbours' pressures mirrored (header)
       if (c.boundaryGradient) {
         const float* gb = c.boundaryGradient + 3 * i;
         const float s = kMirror * wallWeight(p, i) * ki;  // psi_b (k_i + k_b), k_b = k_i
         a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
       }
+      if (sampled) reaction_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f};
       if (c.unsolved && c.unsolved[i] == kHeld) continue;  // its velocity is the pin's
       a[3] = 0.0f;  // the weights' lane
       if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
+      if (sampled) { reaction_[i] = (bodies->share[i] * scale) * a; continue; }  // spread below
       v[i] -= scale * a;  // (2017, eq. 7; header)
     }
+  });
+  if (!bodies) return;
+  // Each sample's reaction spread over its patch (header): particle q of a patch gains
+  // m_i dv_i / M_i, M_i the patch's mass, from every patch i it lies in (the patches are
+  // symmetric: q lies in i's exactly when i lies in q's), gathered in the patch's order.
+  const uint32_t* patch = bodies->patch.data();
+  forEach(n, [&](size_t q) {
+    if (!bodies->sample[q] || (c.unsolved && c.unsolved[q] == kHeld)) return;  // a pin takes its share
+    Float4 d = {0.0f, 0.0f, 0.0f, 0.0f};
+    for (uint32_t e = bodies->offsets[q]; e < bodies->offsets[q + 1]; ++e) d += reaction_[patch[e]];
+    v[q] -= d;
   });
 }
 
@@ -500,7 +522,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity() + fixed_.capacity();
-  b += (scratch_.capacity() + correctionRows_.capacity() + gradientSum_.capacity() + pushTerms_.capacity()) * sizeof(Float4) + pushZ_.capacity() * sizeof(float);
+  b += (scratch_.capacity() + reaction_.capacity() + correctionRows_.capacity() + gradientSum_.capacity() + pushTerms_.capacity()) * sizeof(Float4) + pushZ_.capacity() * sizeof(float);
   return b;
 }
 

@@ -59,6 +59,25 @@
 //   t = 6.9 s; rho0_i fell from 112 to 82 kg/m^3, m_i W(0) = 104, in 0.05 s). It still feels its
 //   neighbours' pressure.
 //
+// Bodies as the fluid's boundary (ours; BodyParams::coupling "boundary", docs/PHYSICS.md). Such a
+// body's particles are no unknowns of either solve (kBoundary; SolverContext::boundaryBodies). The
+// fluid meets them as boundary samples (Akinci et al. 2012) of volume V_b = m_b / rho0_b, which
+// (10) grows as (L^leng)^-3 as the body stretches: the paper's "a stretched body pushes the fluid
+// away harder", in the form an incompressible fluid feels, its density sum. A fluid particle's
+// pressure is mirrored onto the sample (P_b = P_i), so a fluid-sample pair counts twice in the
+// factor, the density rate and the push, as the walls' samples do (the sample's weight w_b is
+// stored doubled; its own response in D_i is not). The sample takes the push's reaction,
+//   m_b dv_b = -dt 2 sum_i V_b V_i P_i grad W_bi                (equal and opposite to its fluid
+// neighbours' share), but not alone: the reaction is spread over its patch, itself and its spring
+// neighbours (BodySystem::boundaryPatches), each particle q of it gaining m_b dv_b / M_b, M_b the
+// patch's mass. The patch takes the impulse the sample would have (linear momentum is kept; a pin
+// takes its particle's share). A membrane carries a load on its area through its neighbours; its
+// springs (the paper's k = 30 N/m) are far too soft to pass it on within a step, and a stretched
+// sample, pushed in proportion to its grown volume with the mass it had, was thrown at hundreds
+// of m/s (docs/investigations/pressure_solvers.md): with the reactions on the samples alone, 36-40
+// of membrane_dfsph's 85 poured particles got through the telescopic sheet, with the spreading
+// 0-1, against 54-62 for the conventional one.
+//
 // Walls wetted by the fluid (ours): a body resting on a wall has no fluid under it, so the mirrored
 // wall alone gives it no buoyancy there, and box.json's box, released on the floor, stayed on it
 // (a real box lifts as water seeps under it; a 1 m particle cannot). Under a body particle the
@@ -142,6 +161,7 @@ public:
   DensityKernel densityKernel() const override { return DensityKernel::CubicSpline; }
   bool pressureInForces() const override { return false; }
   bool incompressible() const override { return true; }
+  bool couplesBoundaryBodies() const override { return true; }
   void afterDensity(const SolverContext& context) override;
   void correctVelocities(const SolverContext& context, float dt) override;
   void setInitialPressure(const std::vector<float>& piById) override;
@@ -219,6 +239,7 @@ private:
   // Per push (applyPressure): w_j k_j (L00, L11, L22, L01), (w_j k_j (L02, L12), Y0, Y1) and Y2,
   // Y = w_j k_j L_j (x_j - origin_): 36 bytes a neighbour, where L_j's three rows took 48.
   std::vector<Float4> pushTerms_;
+  std::vector<Float4> reaction_;  // applyPressure: a boundary body's sample's m_i dv_i / M_i (header)
   std::vector<float> pushZ_;
   Float4 origin_ = {0.0f, 0.0f, 0.0f, 0.0f};          // the positions' origin in pushTerms_
   // L_i d for particle i's rows (L is symmetric: its rows are its columns).

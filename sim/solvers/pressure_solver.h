@@ -30,6 +30,16 @@
 
 namespace kurage::sim {
 
+// The bodies coupled as the fluid's boundary (BodyCoupling::Boundary; sim/solvers/dfsph.h), by
+// sorted particle index (BodySystem::boundaryPatches; rebuilt after every sort).
+struct BoundaryBodies {
+  std::vector<uint8_t> sample;    // per particle: 1 for a particle of such a body (a held one too)
+  std::vector<uint32_t> offsets;  // per particle + 1: particle i's patch is patch[offsets[i], offsets[i + 1])
+  std::vector<uint32_t> patch;    // the particle itself and its spring neighbours (empty for others)
+  std::vector<float> share;       // per particle: m_i over the sum of its patch's masses
+  bool empty() const { return patch.empty(); }
+};
+
 // What a solver sees of the step: the sorted particles, their neighbours (found by the density
 // pass, |r_ij| < h) and the walls' sums: from boundary particles, or, for an incompressible
 // solver, from the wall weights' tables (null when the walls have neither).
@@ -44,8 +54,10 @@ struct SolverContext {
   const float* gradientCorrection = nullptr;  // per particle, 6 floats: L_i (fluid.h), or null
   // Per particle, an UnsolvedState (sim/particles.h): kHeld where a pin holds a body particle in
   // place this step (its velocity is not the solver's to change), kTorn where a telescopic body
-  // is torn; null when the bodies have neither pins nor telescopic density.
+  // is torn, kBoundary for a body coupled as the fluid's boundary; null when the bodies have
+  // none of these.
   const uint8_t* unsolved = nullptr;
+  const BoundaryBodies* boundaryBodies = nullptr;  // null when no body is coupled as a boundary
   float lastStep = 0.0f;                      // the previous step, s (0 before the first)
   Eigen::Vector3f gravity{0.0f, 0.0f, 0.0f};  // g, m/s^2
 };
@@ -78,6 +90,8 @@ public:
   virtual bool pressureInForces() const = 0;
   // True for a solver without a speed of sound (the CFL bound then uses |v| and the spacing).
   virtual bool incompressible() const = 0;
+  // True for a solver that couples bodies as the fluid's boundary (BodyCoupling::Boundary).
+  virtual bool couplesBoundaryBodies() const { return false; }
   // After the density pass.
   virtual void afterDensity(const SolverContext& context) = 0;
   // After v* = v + a dt, before positions move.
