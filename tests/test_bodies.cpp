@@ -10,8 +10,10 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+#include <tbb/global_control.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -866,12 +868,11 @@ TEST(BoundaryBodies, MarkedAndPatchedBySprings) {
   EXPECT_THROW(Simulation{world}, std::invalid_argument);
 }
 
-// The coupling conserves linear momentum: a fluid block thrown at a free body coupled as the
-// fluid's boundary, without gravity and clear of the walls. The fluid's push on each sample and the
-// sample's reaction are equal and opposite, and the reaction spread over the patch keeps its
-// impulse.
-TEST(BoundaryBodies, PressureReactionsConserveMomentum) {
+// A fluid block at 3 m/s about to hit a free box coupled as the fluid's boundary, without
+// gravity, clear of the walls; the fluid's spacing l (the box's is half of it).
+Simulation blockThrownAtABoundaryBody(float l = 1.0f) {
   SimParams world = emptyWorld();
+  world.fluid.spacing = l;
   world.fluid.solver = "dfsph";
   world.fluid.densitySum = DensitySum::Volume;
   world.fluidBlocks.push_back({Eigen::Vector3f(2, 4, 4), Eigen::Vector3f(5, 8, 8)});
@@ -883,6 +884,14 @@ TEST(BoundaryBodies, PressureReactionsConserveMomentum) {
   ParticleSet& p = sim.particles();
   for (size_t i = 0; i < p.size(); ++i)
     if (p.kind[i] == 0) p.vx[i] = 3.0f;
+  return sim;
+}
+
+// The coupling conserves linear momentum. The fluid's push on each sample and the sample's
+// reaction are equal and opposite, and the reaction spread over the patch keeps its impulse.
+TEST(BoundaryBodies, PressureReactionsConserveMomentum) {
+  Simulation sim = blockThrownAtABoundaryBody();
+  ParticleSet& p = sim.particles();
   auto momentum = [&](int kind) {
     Eigen::Vector3d m = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < p.size(); ++i)
@@ -898,6 +907,23 @@ TEST(BoundaryBodies, PressureReactionsConserveMomentum) {
   std::printf("momentum %.1f -> %.1f kg m/s (body %.1f)\n", start.x(), end.x(), momentum(1).x());
   EXPECT_GT(momentum(1).x(), 0.1 * start.x()) << "the fluid pushed the body";
   EXPECT_LT((end - start).norm(), 1e-3 * start.norm());
+}
+
+// The patches gather in a fixed order: 1 and 2 threads agree bit for bit (at half the spacing,
+// so that the particles span several of the solves' chunks).
+TEST(BoundaryBodies, OneAndTwoThreadsGiveIdenticalParticles) {
+  auto run = [](int threads) {
+    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
+    Simulation sim = blockThrownAtABoundaryBody(0.5f);
+    EXPECT_GT(sim.particles().size(), NeighborLists::kChunk);
+    sim.advanceTo(0.6);
+    std::vector<std::array<float, 4>> out;
+    const ParticleSet& s = sim.particles();
+    for (size_t i = 0; i < s.size(); ++i) out.push_back({float(s.id[i]), s.x[i], s.y[i], s.z[i]});
+    std::sort(out.begin(), out.end());
+    return out;
+  };
+  EXPECT_TRUE(run(1) == run(2));
 }
 
 // The paper's Fig. 2 under DFSPH: scenes/membrane_dfsph.json and its conventional twin, the sheet
