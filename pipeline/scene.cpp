@@ -162,18 +162,8 @@ void validate(const Scene& scene, const std::string& file) {
     if (b.shape == sim::BodyShape::Shell && b.axis.norm() <= 0.0f) fail(path + ".axis", "must not be zero");
     if (b.shape == sim::BodyShape::Chain && (b.end - b.start).norm() <= 0.0f) fail(path + ".end", "must differ from start");
     if (b.shape != sim::BodyShape::Chain && !b.attachTo.empty()) fail(path + ".attach_to", "only a chain can be attached");
-    if (b.coupling == sim::BodyCoupling::Boundary) {
-      if (!sim::makePressureSolver(sim.fluid)->couplesBoundaryBodies())
-        fail(path + ".coupling", "\"boundary\" needs a solver that couples bodies as the fluid's boundary (fluid.solver "
-                                 "\"dfsph\"), got \"" + sim.fluid.solver + "\"");
-      if (sim.fluid.densitySum != sim::DensitySum::Volume)
-        fail(path + ".coupling", "\"boundary\" needs fluid.density_sum \"volume\": the fluid counts a boundary "
-                                 "sample by its volume m / rho0, which (10) grows as the body stretches");
-      if (sim.fluid.divergenceSolve != sim::DivergenceSolve::Jacobi)
-        fail(path + ".coupling", "\"boundary\" needs fluid.divergence_solve \"jacobi\": spreading the reactions over "
-                                 "spring patches makes the solves' operator unsymmetric, which conjugate gradients "
-                                 "does not allow");
-    }
+    if (b.coupling == sim::BodyCoupling::Boundary)
+      if (const std::string why = sim::boundaryCouplingProblem(sim.fluid); !why.empty()) fail(path + ".coupling", why);
     // The points that span the body, checked against the container before anything is built (a
     // chain starting 100 km away kept the loader busy for minutes: found by the scene fuzzer).
     const auto inside = [&box](const Eigen::Vector3f& q) {

@@ -163,9 +163,9 @@ Simulation::Simulation(SimParams params)
     expected += emitters_.back().expectedTotal();
   }
   for (size_t b = 0; b < params_.bodies.size(); ++b)
-    if (params_.bodies[b].coupling == BodyCoupling::Boundary && !solver_->couplesBoundaryBodies())
-      throw std::invalid_argument("bodies[" + std::to_string(b) + "].coupling: \"boundary\" needs a solver that couples "
-                                  "bodies as the fluid's boundary (dfsph), not " + std::string(solver_->name()));
+    if (params_.bodies[b].coupling == BodyCoupling::Boundary)
+      if (const std::string why = boundaryCouplingProblem(fluid); !why.empty())
+        throw std::invalid_argument("bodies[" + std::to_string(b) + "].coupling: " + why);
   if (!params_.bodies.empty()) {
     bodies_ = std::make_unique<BodySystem>(params_, particles_, nextId_);  // body ids first
     removeDisplacedFluid(particles_, fluid.spacing, params_.bodies, blockPoints);

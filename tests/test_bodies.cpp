@@ -16,6 +16,7 @@
 #include <array>
 #include <cmath>
 #include <map>
+#include <set>
 
 using namespace kurage;
 using namespace kurage::sim;
@@ -815,7 +816,7 @@ TEST(Unsolved, HeldAndTornBodyParticlesAreMarked) {
 
 // A body coupled as the fluid's boundary (BodyCoupling::Boundary): every particle no unknown of the
 // solves (kBoundary; a held one kHeld), each with a patch of itself and its spring neighbours,
-// the patches symmetric and the shares m_i / (the patch's mass).
+// the patches symmetric and the shares m_i / (the patch's mass), masses unequal (a heavier part).
 TEST(BoundaryBodies, MarkedAndPatchedBySprings) {
   SimParams world = emptyWorld();
   world.fluid.solver = "dfsph";
@@ -823,6 +824,7 @@ TEST(BoundaryBodies, MarkedAndPatchedBySprings) {
   BodyParams box = boxBody(Eigen::Vector3f(4, 4, 4), Eigen::Vector3f(7, 7, 7));
   box.coupling = BodyCoupling::Boundary;
   box.pins.push_back({SelectionKind::Region, Eigen::Vector3f(3.9f, 3.9f, 3.9f), Eigen::Vector3f(4.6f, 7.1f, 7.1f)});
+  box.parts.push_back({"heavy", {SelectionKind::Region, Eigen::Vector3f(5.9f, 3.9f, 3.9f), Eigen::Vector3f(7.1f, 7.1f, 7.1f)}, 3.0f});
   world.bodies.push_back(box);
   world.bodies.push_back(boxBody(Eigen::Vector3f(8, 8, 8), Eigen::Vector3f(10, 10, 10)));  // solved, unpinned
   ParticleSet p;
@@ -838,6 +840,7 @@ TEST(BoundaryBodies, MarkedAndPatchedBySprings) {
   bodies.boundaryPatches(p, patches);
   ASSERT_EQ(patches.offsets.size(), p.size() + 1);
   size_t held = 0;
+  std::set<float> masses;
   for (size_t i = 0; i < p.size(); ++i) {
     const bool first = p.kind[i] == 1;
     EXPECT_EQ(patches.sample[i], first ? 1 : 0) << i;
@@ -861,8 +864,10 @@ TEST(BoundaryBodies, MarkedAndPatchedBySprings) {
       EXPECT_NE(std::find(back, backEnd, uint32_t(i)), backEnd) << "patches are symmetric";
     }
     EXPECT_NEAR(patches.share[i], p.mass[i] / mass, 1e-6);
+    masses.insert(p.mass[i]);
   }
   EXPECT_GT(held, 0u);
+  EXPECT_EQ(masses.size(), 2u) << "the part's particles are heavier";
   // Under a solver that cannot couple it so, the simulation refuses the body.
   world.fluid.solver = "wcsph";
   EXPECT_THROW(Simulation{world}, std::invalid_argument);
@@ -931,9 +936,10 @@ TEST(BoundaryBodies, OneAndTwoThreadsGiveIdenticalParticles) {
 // boundary"), the paper's body parameters (k = 30 N/m) and a support of 1.6 l. The fluid meets the
 // sheet's particles by their volume m / rho0, which (10) grows as the sheet stretches: the
 // telescopic sheet holds the poured fluid, the conventional one lets it slip through. Sampled
-// every 16 / 2 / 1 / 0.5 / 0.25 / 0.1 / 1/24 / 0.05 s (the scene is chaotic): 0-1 and 54-62 of 85
-// leak. No sheet particle is thrown (with the reactions on the samples alone, not spread over
-// their patches, they were, and 36-40 of 85 leaked).
+// every 16 / 2 / 1 / 0.5 / 0.25 / 0.1 / 1/24 / 0.05 s (the scene is chaotic): 0 and 54-61 of 85
+// leak. No sheet particle is thrown (5.9 m/s at most, read every frame). With the reactions on
+// the samples alone, not spread over their patches, seven of the eight telescopic runs stopped
+// and the conventional sheet let every particle through.
 TEST(MembraneUnderDfsph, TelescopicVolumeHoldsTheFluidTheConventionalModelLeaks) {
   std::map<bool, double> leaked;
   for (const bool telescopic : {true, false}) {
@@ -954,7 +960,6 @@ TEST(MembraneUnderDfsph, TelescopicVolumeHoldsTheFluidTheConventionalModelLeaks)
     std::printf("%s: %zu of %zu fluid particles below the membrane at %.0f s; the fastest sheet particle %.1f m/s\n",
                 scene.name.c_str(), leak.leaked, leak.fluid, scene.output.duration, fastest);
     EXPECT_LT(fastest, 10.0f) << "no sheet particle thrown";
-    EXPECT_EQ(sim.solver().stats().tornSteps, 0u) << "a boundary body is never torn out of the solves";
   }
   EXPECT_LT(leaked[true], 0.1) << "telescopic density";
   EXPECT_GT(leaked[false], 0.5) << "conventional mass-spring model";

@@ -119,6 +119,13 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       correctionRows_[3 * i + 2] = Float4{L[4], L[5], L[2], 0.0f};
     });
   }
+  // Neighbour j's weight in D_i's second term, c_j of the header: a boundary body's sample with
+  // its weight not doubled, as if it answered i's pressure alone (an approximation: it answers
+  // with its patch, mirrored; the Jacobi iteration tolerates the factor's error)
+  const auto responseWeight = [&](size_t j) {
+    const float w = sample && sample[j] ? position_[j][3] / kMirror : position_[j][3];
+    return form_ == DensitySum::Mass ? w : w / p.restDensity[j];
+  };
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
     const std::vector<float>& g = c.neighbors.slopes(ch);  // W'(r)/r, from the density pass
     assert(g.size() == c.neighbors.chunkSize(ch));
@@ -138,8 +145,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
           const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
           const float w = position_[j][3];  // m_j, or V_j (mirrored for a boundary body's sample)
           F += w * grad;
-          const float own = sample && sample[j] ? w / kMirror : w;  // its own response, not mirrored
-          S += (form_ == DensitySum::Mass ? own : own / p.restDensity[j]) * grad.squaredNorm();
+          S += responseWeight(j) * grad.squaredNorm();
         }
       } else {
         // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
@@ -153,8 +159,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
           const float w = position_[j][3];
           plain += w * d;
           const Float4 g2 = grad * grad;
-          const float own = sample && sample[j] ? w / kMirror : w;
-          S += (form_ == DensitySum::Mass ? own : own / p.restDensity[j]) * (g2[0] + g2[1] + g2[2]);
+          S += responseWeight(j) * (g2[0] + g2[1] + g2[2]);
         }
         plain[3] = 0.0f;
         gradientSum_[i] = plain;  // sum_j w_j grad W_ij, the push's own term (applyPressure)
@@ -435,6 +440,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
       // The walls' hydrostatic part of their pressure, p_b - p_i = rho0_i g . (x_b - x_i) (Adami
       // 2012): -dt sum_b psi_b (p_b - p_i) / rho0_i^2 grad W_ib, known before the solve.
       if (c.unsolved && c.unsolved[i] == kHeld) return;  // its velocity is the pin's
+      if (c.boundaryBodies && c.boundaryBodies->sample[i]) return;  // no pressure of its own to mirror (header)
       const float* lift = c.boundaryLift + 3 * i;
       velocity_[i] -= dt * Float4{lift[0], lift[1], lift[2], 0.0f};
     });
@@ -509,6 +515,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
   for (size_t i = 0; i < n; ++i) {
     const size_t k = size_t(p.kind[i]);
     if (k == 0 || headCount_[k] == 0.0 || (c.unsolved && c.unsolved[i] == kHeld)) continue;
+    if (c.boundaryBodies && c.boundaryBodies->sample[i]) continue;  // a boundary body's: the fluid's own push (header)
     const float* gb = c.boundaryGradient + 3 * i;
     if (gb[0] == 0.0f && gb[1] == 0.0f && gb[2] == 0.0f) continue;
     const float film = float(headSum_[k] / headCount_[k]) +

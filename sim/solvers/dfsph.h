@@ -66,17 +66,21 @@
 // away harder", in the form an incompressible fluid feels, its density sum. A fluid particle's
 // pressure is mirrored onto the sample (P_b = P_i), so a fluid-sample pair counts twice in the
 // factor, the density rate and the push, as the walls' samples do (the sample's weight w_b is
-// stored doubled; its own response in D_i is not). The sample takes the push's reaction,
+// stored doubled). For the density rate this is a choice made for symmetry, as at the walls:
+// exact for a sample at rest, it counts a moving sample's approach twice. The sample's own
+// response in D_i is taken undoubled and unspread, an approximation. Samples have no pressure, so
+// the walls' mirrored push, their hydrostatic part and the wetted film leave them alone: the
+// fluid pushes them, the wall clamp keeps them in. The sample takes the push's reaction,
 //   m_b dv_b = -dt 2 sum_i V_b V_i P_i grad W_bi                (equal and opposite to its fluid
 // neighbours' share), but not alone: the reaction is spread over its patch, itself and its spring
 // neighbours (BodySystem::boundaryPatches), each particle q of it gaining m_b dv_b / M_b, M_b the
-// patch's mass. The patch takes the impulse the sample would have (linear momentum is kept; a pin
-// takes its particle's share). A membrane carries a load on its area through its neighbours; its
+// patch's mass. The patch takes the impulse the sample would have (linear momentum is kept, not
+// angular momentum about the patch; a pin takes its particle's share). A membrane carries a load on its area through its neighbours; its
 // springs (the paper's k = 30 N/m) are far too soft to pass it on within a step, and a stretched
 // sample, pushed in proportion to its grown volume with the mass it had, was thrown at hundreds
-// of m/s (docs/investigations/pressure_solvers.md): with the reactions on the samples alone, 36-40
-// of membrane_dfsph's 85 poured particles got through the telescopic sheet, with the spreading
-// 0-1, against 54-62 for the conventional one.
+// of m/s (docs/investigations/pressure_solvers.md): with the reactions on the samples alone, seven
+// of eight runs of membrane_dfsph.json stopped (their step under time_step.min_step) and its
+// conventional twin let all 85 poured particles through; with the spreading 0 and 54-61.
 //
 // Walls wetted by the fluid (ours): a body resting on a wall has no fluid under it, so the mirrored
 // wall alone gives it no buoyancy there, and box.json's box, released on the floor, stayed on it
@@ -239,7 +243,7 @@ private:
   // Per push (applyPressure): w_j k_j (L00, L11, L22, L01), (w_j k_j (L02, L12), Y0, Y1) and Y2,
   // Y = w_j k_j L_j (x_j - origin_): 36 bytes a neighbour, where L_j's three rows took 48.
   std::vector<Float4> pushTerms_;
-  std::vector<Float4> reaction_;  // applyPressure: a boundary body's sample's m_i dv_i / M_i (header)
+  std::vector<Float4> reaction_;  // applyPressure: a boundary body's sample's share of its push, -m_i dv_i / M_i (header)
   std::vector<float> pushZ_;
   Float4 origin_ = {0.0f, 0.0f, 0.0f, 0.0f};          // the positions' origin in pushTerms_
   // L_i d for particle i's rows (L is symmetric: its rows are its columns).

@@ -115,6 +115,9 @@ const std::vector<std::string>& pressureSolverNames();
 std::unique_ptr<PressureSolver> makePressureSolver(const FluidParams& fluid);
 // The density kernel of the scene's solver (for mass calibration before a solver exists).
 DensityKernel densityKernelOf(const FluidParams& fluid);
+// Why bodies cannot be coupled as the fluid's boundary (BodyCoupling::Boundary) under these fluid
+// parameters, naming the key to change; empty when they can.
+std::string boundaryCouplingProblem(const FluidParams& fluid);
 // fluid.kernel with "auto" resolved: the solver's own kernel, but the cubic spline for WCSPH with
 // boundary-particle walls (docs/PHYSICS.md, "Walls under WCSPH").
 SphKernel resolvedKernel(const FluidParams& fluid, WallDensity walls);

@@ -37,6 +37,19 @@ std::unique_ptr<PressureSolver> makePressureSolver(const FluidParams& fluid) {
 
 DensityKernel densityKernelOf(const FluidParams& fluid) { return makePressureSolver(fluid)->densityKernel(); }
 
+std::string boundaryCouplingProblem(const FluidParams& fluid) {
+  if (!makePressureSolver(fluid)->couplesBoundaryBodies())
+    return "\"boundary\" needs a solver that couples bodies as the fluid's boundary (fluid.solver \"dfsph\"), got \"" +
+           fluid.solver + "\"";
+  if (fluid.densitySum != DensitySum::Volume)
+    return "\"boundary\" needs fluid.density_sum \"volume\": the fluid counts a boundary sample by its volume "
+           "m / rho0, which (10) grows as the body stretches";
+  if (fluid.divergenceSolve != DivergenceSolve::Jacobi)
+    return "\"boundary\" needs fluid.divergence_solve \"jacobi\": spreading the reactions over spring patches "
+           "makes the solves' operator unsymmetric, which conjugate gradients does not allow";
+  return "";
+}
+
 SphKernel resolvedKernel(const FluidParams& fluid, WallDensity walls) {
   if (fluid.kernel != SphKernel::Auto) return fluid.kernel;
   if (densityKernelOf(fluid) == DensityKernel::CubicSpline || walls == WallDensity::BoundaryParticles)
