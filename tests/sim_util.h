@@ -1,10 +1,15 @@
-// Helpers shared by the simulation tests: a particle set's kinetic energy and a plain box body.
+// Helpers shared by the simulation tests: a particle set's kinetic energy, its positions by id and
+// a plain box body.
 #pragma once
 
 #include "sim/params.h"
 #include "sim/particles.h"
 
 #include <Eigen/Core>
+
+#include <algorithm>
+#include <array>
+#include <vector>
 
 namespace kurage::test {
 
@@ -13,6 +18,14 @@ inline double kineticEnergy(const sim::ParticleSet& p) {
   double e = 0.0;
   for (size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
   return e;
+}
+
+// (id, x, y, z) of every particle, sorted by id: two runs compared whatever their particles' order.
+inline std::vector<std::array<float, 4>> positionsById(const sim::ParticleSet& p) {
+  std::vector<std::array<float, 4>> out;
+  for (size_t i = 0; i < p.size(); ++i) out.push_back({float(p.id[i]), p.x[i], p.y[i], p.z[i]});
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 // A box-shaped body named "box" over [min, max], every other parameter at its default.

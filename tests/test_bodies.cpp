@@ -22,6 +22,7 @@ using namespace kurage;
 using namespace kurage::sim;
 using kurage::test::boxBody;
 using kurage::test::kineticEnergy;
+using kurage::test::positionsById;
 
 namespace {
 
@@ -922,11 +923,7 @@ TEST(BoundaryBodies, OneAndTwoThreadsGiveIdenticalParticles) {
     Simulation sim = blockThrownAtABoundaryBody(0.5f);
     EXPECT_GT(sim.particles().size(), NeighborLists::kChunk);
     sim.advanceTo(0.6);
-    std::vector<std::array<float, 4>> out;
-    const ParticleSet& s = sim.particles();
-    for (size_t i = 0; i < s.size(); ++i) out.push_back({float(s.id[i]), s.x[i], s.y[i], s.z[i]});
-    std::sort(out.begin(), out.end());
-    return out;
+    return positionsById(sim.particles());
   };
   EXPECT_TRUE(run(1) == run(2));
 }

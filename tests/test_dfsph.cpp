@@ -7,6 +7,7 @@
 #include "sim/fluid.h"
 #include "sim/simulation.h"
 #include "sim/solvers/pressure_solver.h"
+#include "sim_util.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -342,11 +343,7 @@ TEST(Dfsph, OneAndTwoThreadsGiveIdenticalParticles) {
     p.fluid.gradientCorrection = corrected;
     Simulation sim(p);
     sim.advanceTo(1.0);
-    std::vector<std::array<float, 4>> out;
-    const ParticleSet& s = sim.particles();
-    for (size_t i = 0; i < s.size(); ++i) out.push_back({float(s.id[i]), s.x[i], s.y[i], s.z[i]});
-    std::sort(out.begin(), out.end());
-    return out;
+    return kurage::test::positionsById(sim.particles());
   };
   const auto one = run(1, DivergenceSolve::Jacobi), two = run(2, DivergenceSolve::Jacobi);
   ASSERT_EQ(one.size(), two.size());
