@@ -94,12 +94,17 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   const float dRef = 2.0f * kernel_.sigma * kernel_.invH;  // largest |dW/dr|, at r = h / 3
   position_.resize(n);
   velocity_.resize(n);
+  response_.resize(n);
   const uint8_t* sample = c.boundaryBodies ? c.boundaryBodies->sample.data() : nullptr;
   tbb::parallel_for(size_t(0), n, [&](size_t i) {
     const float w = form_ == DensitySum::Mass ? p.mass[i] : p.mass[i] / p.restDensity[i];  // density rate weight
     // A boundary body's sample counts twice in its pairs with the fluid: the fluid particle's
     // pressure mirrored onto it (header, "Bodies as the fluid's boundary")
     position_[i] = Float4{p.x[i], p.y[i], p.z[i], sample && sample[i] ? kMirror * w : w};
+    // Its weight c_i in a neighbour's D (header): a sample's undoubled, as if it answered the
+    // neighbour's pressure alone (an approximation: it answers with its patch, mirrored; the
+    // Jacobi iteration tolerates the factor's error)
+    response_[i] = form_ == DensitySum::Mass ? w : w / p.restDensity[i];
   });
   loadVelocities(p);
   corrected_ = c.gradientCorrection != nullptr;
@@ -119,13 +124,6 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       correctionRows_[3 * i + 2] = Float4{L[4], L[5], L[2], 0.0f};
     });
   }
-  // Neighbour j's weight in D_i's second term, c_j of the header: a boundary body's sample with
-  // its weight not doubled, as if it answered i's pressure alone (an approximation: it answers
-  // with its patch, mirrored; the Jacobi iteration tolerates the factor's error)
-  const auto responseWeight = [&](size_t j) {
-    const float w = sample && sample[j] ? position_[j][3] / kMirror : position_[j][3];
-    return form_ == DensitySum::Mass ? w : w / p.restDensity[j];
-  };
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
     const std::vector<float>& g = c.neighbors.slopes(ch);  // W'(r)/r, from the density pass
     assert(g.size() == c.neighbors.chunkSize(ch));
@@ -145,7 +143,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
           const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
           const float w = position_[j][3];  // m_j, or V_j (mirrored for a boundary body's sample)
           F += w * grad;
-          S += responseWeight(j) * grad.squaredNorm();
+          S += response_[j] * grad.squaredNorm();
         }
       } else {
         // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
@@ -159,7 +157,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
           const float w = position_[j][3];
           plain += w * d;
           const Float4 g2 = grad * grad;
-          S += responseWeight(j) * (g2[0] + g2[1] + g2[2]);
+          S += response_[j] * (g2[0] + g2[1] + g2[2]);
         }
         plain[3] = 0.0f;
         gradientSum_[i] = plain;  // sum_j w_j grad W_ij, the push's own term (applyPressure)
@@ -527,7 +525,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 }
 
 size_t DfsphSolver::memoryBytes() const {
-  size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
+  size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + response_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity() + fixed_.capacity();
   b += (scratch_.capacity() + reaction_.capacity() + correctionRows_.capacity() + gradientSum_.capacity() + pushTerms_.capacity()) * sizeof(Float4) + pushZ_.capacity() * sizeof(float);
   return b;

@@ -222,6 +222,7 @@ private:
   // "volume"), and (vx, vy, vz, 0); written back to the particles after each solve.
   std::vector<Float4> position_, velocity_;
   std::vector<float> invFactor_;               // 1 / D_i (0 where D_i vanishes)
+  std::vector<float> response_;                // per step: c_i of D_j's second term, once a particle (header)
   std::vector<float> pi_;                      // the unknown of this step (k_i, or P_i; header)
   std::vector<float> change_;                  // per iteration: the pi (or q) change
   std::vector<float> rate_;                    // Drho/Dt
