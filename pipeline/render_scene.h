@@ -3,7 +3,7 @@
 // clip plane, chains as tubes, and particles as coloured spheres for explanatory stills.
 #pragma once
 
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/scene.h"
 #include "render/tracer.h"
 

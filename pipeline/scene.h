@@ -17,7 +17,7 @@
 
 namespace kurage::pipeline {
 
-// Which exports the run makes after its surfaces (pipeline/io/exports.h says what each is).
+// Which exports the run makes after its surfaces (pipeline/exports.h says what each is).
 struct ExportSelection {
   bool meshPly = false, meshObj = false, particlesVtp = false, particlesPly = false, chainsVtp = false,
        chainsObj = false;

@@ -5,7 +5,7 @@
 //                        part's): L^dens (SPEC §3.3) for body particles, 1 for fluid at rest
 #pragma once
 
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/scene.h"
 
 namespace kurage::sim {

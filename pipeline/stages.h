@@ -7,7 +7,7 @@
 // and OUT/run.json records the parameters in effect, library versions and stage timings.
 #pragma once
 
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/scene.h"
 #include "render/image.h"
 #include "render/surfacing.h"
@@ -124,7 +124,7 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
 void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& record);
-// The scene's output.exports (pipeline/io/exports.h) from OUT/particles and OUT/surfaces.
+// The scene's output.exports (pipeline/exports.h) from OUT/particles and OUT/surfaces.
 void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& record);
 
 // Pieces of the stages, for tests and tools.

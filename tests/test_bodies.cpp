@@ -2,7 +2,7 @@
 // the collision loop and its cap, pins, Archimedes' principle, the paper's box sequence (Fig. 3)
 // and membrane (Fig. 2), and which stages a scene runs.
 #include "pipeline/io/files.h"
-#include "pipeline/measures.h"
+#include "pipeline/analysis/body_measures.h"
 #include "pipeline/scene.h"
 #include "sim/body_shapes.h"
 #include "sim/simulation.h"

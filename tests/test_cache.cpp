@@ -1,7 +1,7 @@
 // Particle caches: bit-exact round trips (positions far from the origin and negative included),
 // metadata, empty frames, and refusal of missing, truncated and foreign files.
 #include "pipeline/io/surface_file.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/scene.h"
 #include "pipeline/sim_frame.h"
 #include "sim/simulation.h"

@@ -10,7 +10,7 @@
 // back wall with at least three other fluid particles within two spacings (not spray), plus half
 // a spacing. Both are sampled every 0.05 in tau = t sqrt(g/a) and
 // interpolated linearly at the tabulated times.
-#include "pipeline/measures.h"
+#include "pipeline/analysis/dam_break.h"
 #include "sim/simulation.h"
 #include "test_util.h"
 
@@ -62,7 +62,7 @@ Measured runDamBreak(const char* label, WallSlip walls, const std::string& solve
   Simulation sim(p);
   const size_t count = sim.particles().size();
 
-  // The measures of pipeline/measures.h (shared with `kurage study`), sampled every 0.05 in tau.
+  // The measures of pipeline/analysis/dam_break.h (shared with `kurage study`), sampled every 0.05 in tau.
   DamBreakTrack track({a, 2.0 * a, g, l, Eigen::Vector3d::Zero()});
   for (int f = 1; f <= 152; ++f) {
     sim.advanceTo(track.timeAtTau(f * 0.05));

@@ -1,7 +1,8 @@
 // The pressure solver seam, DFSPH, boundary-particle walls and the hydrostatic start (issue:
 // incompressible solver, real walls). Label `validation` for the tank and dam-break figures,
 // the rest run in seconds.
-#include "pipeline/measures.h"
+#include "pipeline/analysis/body_measures.h"
+#include "pipeline/analysis/still_tank.h"
 #include "sim/boundary.h"
 #include "sim/boundary_particles.h"
 #include "sim/fluid.h"

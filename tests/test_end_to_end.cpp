@@ -22,7 +22,7 @@
 #include "pipeline/io/exr.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/surface_file.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/scene.h"
 #include "image_test.h"

@@ -1,9 +1,9 @@
-// Exports for other tools (pipeline/io/exports.h): every format read back — by small readers of
+// Exports for other tools (pipeline/exports.h): every format read back — by small readers of
 // our own here (PLY, OBJ, VTK XML), and by VTK's own XML reader (python3-vtk9) — and the
 // `kurage export` command on a real run.
-#include "pipeline/io/exports.h"
+#include "pipeline/exports.h"
 #include "pipeline/io/files.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 
 #include "test_util.h"
 

@@ -4,7 +4,7 @@
 // failed task cancels the merge, `kurage farm status` names the missing frames, and resubmitting
 // runs only the failed chunk.
 #include "pipeline/io/files.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 
 #include "test_util.h"
 

@@ -5,11 +5,12 @@
 // stretch_only measure) and no fluid gets into the wall. The README run's
 // figures come from `kurage run` itself (run.json's "swim", bodies.csv; docs/STABILITY.md).
 //
-// Measures (pipeline/measures.h ShellWall): the bell's apex (its highest particle), centre of
+// Measures (pipeline/analysis/shell_wall.h): the bell's apex (its highest particle), centre of
 // mass, margin radius (the last ring of latitude of both layers), shape along its own axis
 // (height, diameter), tilt, the closest approach of two bell particles no spring joins, and
 // chainSelfApproach for the arms.
-#include "pipeline/measures.h"
+#include "pipeline/analysis/body_measures.h"
+#include "pipeline/analysis/shell_wall.h"
 #include "pipeline/scene.h"
 #include "sim/bodies.h"
 #include "sim/simulation.h"

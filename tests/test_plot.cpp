@@ -1,8 +1,8 @@
-// Figures (pipeline/studies/plot.h): the gnuplot script says what the plot describes (axes, log
+// Figures (pipeline/io/plot.h): the gnuplot script says what the plot describes (axes, log
 // scales, second axis, skipped values, labels taken literally), and gnuplot turns it into a PNG,
 // an SVG and a PDF whose title fits.
 #include "pipeline/io/files.h"
-#include "pipeline/studies/plot.h"
+#include "pipeline/io/plot.h"
 #include "render/image.h"
 
 #include "test_util.h"

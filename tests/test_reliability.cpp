@@ -10,7 +10,7 @@
 #include "pipeline/io/stamp.h"
 #include "pipeline/io/surface_file.h"
 #include "pipeline/io/video.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/scene.h"
 #include "pipeline/stages.h"
 #include "test_util.h"

@@ -4,7 +4,7 @@
 // what emitters added), mechanical energy bounded by what gravity, emitters or muscles put in,
 // on scenes small enough to run in a second or two.
 #include "pipeline/io/files.h"
-#include "pipeline/measures.h"
+#include "pipeline/analysis/body_measures.h"
 #include "sim/simulation.h"
 #include "sim_util.h"
 #include "test_util.h"

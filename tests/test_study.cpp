@@ -1,9 +1,13 @@
 // kurage study (label `unit`): the machinery on a tiny sweep (rows, plot, summary, a failed run
 // as a row), strict study files (exit 2 naming the JSON path), JSON paths into scenes, and the
-// measures of pipeline/measures.h against answers known in closed form.
+// measures of pipeline/analysis/ against answers known in closed form.
 #include "pipeline/io/files.h"
-#include "pipeline/measures.h"
-#include "pipeline/study.h"
+#include "pipeline/analysis/body_measures.h"
+#include "pipeline/analysis/image_rmse.h"
+#include "pipeline/analysis/series.h"
+#include "pipeline/analysis/still_tank.h"
+#include "pipeline/analysis/surface_distance.h"
+#include "pipeline/studies/study.h"
 #include "render/image.h"
 #include "sim/kernels.h"
 #include "test_util.h"

@@ -68,7 +68,5 @@ FarmProgress farmProgress(const FarmPlan& plan, const Scene& scene);
 // "3-5, 9" style list of frame numbers.
 std::string frameList(const std::vector<int>& frames);
 
-// kurage farm SCENE -o OUT ... | farm status OUT | farm merge OUT   (pipeline/farm/cmd_farm.cpp)
-int commandFarm(std::vector<std::string> args);
 
 }  // namespace kurage::pipeline

@@ -1,9 +1,9 @@
-// Study files: loading and validating a study and every scene it will run (pipeline/study.h).
+// Study files: loading and validating a study and every scene it will run (pipeline/studies/study.h).
 // Kept apart from running studies so that the loader is small enough to fuzz (tests/fuzz).
-#include "pipeline/study.h"
+#include "pipeline/studies/study.h"
 
 #include "pipeline/io/files.h"
-#include "pipeline/measures.h"
+#include "pipeline/analysis/dam_break.h"
 
 #include <algorithm>
 #include <string>
@@ -60,7 +60,7 @@ void describe(V& v, Study& s) {
   v.value("scene", s.scene, {"", "base scene file, relative to the study file's folder", {}, true});
   v.value("set", s.set, {"", "scene values set in every run before the knobs: {\"json.path\": value, ...}"});
   v.list("knobs", s.knobs, {"", "one or two knobs; the runs are every combination of their values", {}, true});
-  v.enumeration("measure", s.measure, kStudyMeasure, {"", "the error measure (pipeline/study.h)", {}, true});
+  v.enumeration("measure", s.measure, kStudyMeasure, {"", "the error measure (pipeline/studies/study.h)", {}, true});
   v.value("duration", s.duration, {"s", "simulated time of each run", nonNegative(), true});
   v.value("error_threshold", s.errorThreshold, {"", "the accepted error, in the measure's unit", nonNegative()});
   v.value("reference_data", s.referenceData, {"", "dam break: Martin & Moyce CSV, relative to the study file"});

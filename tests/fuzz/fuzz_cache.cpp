@@ -1,8 +1,8 @@
-// libFuzzer target: the particle-cache reader (pipeline/particle_cache.h readParticleFrame).
+// libFuzzer target: the particle-cache reader (pipeline/io/particle_cache.h readParticleFrame).
 // Contract: a frame, or an error naming the file; never a crash or an allocation driven by a
 // damaged header. The checksum (pipeline/io/stamp.h) is checked on the raw bytes before
 // OpenVDB's parser sees them, so mutated bytes stop there by design.
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "tests/fuzz/fuzz_util.h"
 
 #include <stdexcept>

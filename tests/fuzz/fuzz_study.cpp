@@ -1,8 +1,8 @@
-// libFuzzer target: the study loader (pipeline/study.h loadStudy), which also loads and checks
+// libFuzzer target: the study loader (pipeline/studies/study.h loadStudy), which also loads and checks
 // the base scene and every knob combination. The input is written as scenes/studies/input.json
 // in a scratch copy of the source tree's scenes/ and tests/data/, so that the committed studies'
 // relative paths resolve. Contract: a Study, or a SceneError naming a file; nothing else.
-#include "pipeline/study.h"
+#include "pipeline/studies/study.h"
 #include "tests/fuzz/fuzz_util.h"
 
 namespace fs = std::filesystem;

@@ -1,7 +1,7 @@
-// kurage study STUDY.json -o OUT: what accuracy costs in time (pipeline/study.h).
-#include "pipeline/cli.h"
+// kurage study STUDY.json -o OUT: what accuracy costs in time (pipeline/studies/study.h).
+#include "pipeline/commands/cli.h"
 #include "pipeline/io/files.h"
-#include "pipeline/study.h"
+#include "pipeline/studies/study.h"
 
 #include <cstdio>
 

@@ -1,5 +1,5 @@
 // kurage bench sim | render | surface
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 
 #include <cstdio>
 

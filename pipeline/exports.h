@@ -16,7 +16,7 @@
 // The serializers are pure (bytes in a string), so tests read them back without files.
 #pragma once
 
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/scene.h"
 #include "render/mesh.h"
 

@@ -1,5 +1,5 @@
 // kurage run | sim | surface | render SCENE -o OUT
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 #include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/run_lock.h"

@@ -1,6 +1,6 @@
 // kurage farm SCENE -o OUT [...] [--submit] | kurage farm status OUT | kurage farm merge OUT
 // (pipeline/farm/farm.h).
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 #include "pipeline/farm/farm.h"
 #include "pipeline/stages.h"
 #include "pipeline/io/files.h"

@@ -20,8 +20,8 @@
 //   aniso  render::buildMetaballLevelSet with anisotropic kernels (render/anisotropy.h;
 //          neighbourhood 1.5 R, smoothing 0.9, the settings of the flat-water test)
 // and reports the fastest repetition of each.
-#include "pipeline/cli.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/commands/cli.h"
+#include "pipeline/io/particle_cache.h"
 #include "render/particle_spheres.h"
 #include "render/surfacing.h"
 

@@ -1,8 +1,8 @@
 // kurage export OUT --format F[,F...] [--frames A-B] [--threads N]: files for other tools from an
-// existing run (pipeline/io/exports.h). The scene is the one the run recorded in OUT/run.json.
-#include "pipeline/cli.h"
+// existing run (pipeline/exports.h). The scene is the one the run recorded in OUT/run.json.
+#include "pipeline/commands/cli.h"
 #include "pipeline/io/files.h"
-#include "pipeline/io/exports.h"
+#include "pipeline/exports.h"
 #include "pipeline/scene.h"
 
 #include <chrono>

@@ -7,10 +7,10 @@
 // rest to red at --max-speed, default the free-fall speed from the container's top,
 // sqrt(2 |g| height)). Camera and resolution come from the scene's render settings; the light is
 // fixed (from above, over the camera's shoulder) and the background a flat pale grey-blue.
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/image_file.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/stages.h"
 #include "pipeline/progress.h"
 #include "pipeline/scene.h"

@@ -1,6 +1,4 @@
-#include "pipeline/cli.h"
-
-#include <tbb/global_control.h>
+#include "pipeline/commands/cli.h"
 
 #include <cstdio>
 #include <unistd.h>
@@ -156,17 +154,6 @@ Quality parseQuality(ArgParser& args) {
   if (!q || *q == "final") return Quality::Final;
   if (*q == "preview") return Quality::Preview;
   args.fail("--quality: expected preview or final, got " + *q);
-}
-
-ThreadLimit::ThreadLimit(int threads) {
-  if (threads > 0)
-    control_ = new tbb::global_control(tbb::global_control::max_allowed_parallelism, size_t(threads));
-}
-
-ThreadLimit::~ThreadLimit() { delete static_cast<tbb::global_control*>(control_); }
-
-int ThreadLimit::current() {
-  return int(tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism));
 }
 
 }  // namespace kurage::pipeline

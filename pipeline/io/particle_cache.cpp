@@ -5,7 +5,7 @@
 // and index -> world ((ijk + offset) * v) are all exact in double precision, and the offset of
 // a float p fits a float exactly (it keeps at most p's 24 significant bits), so with the
 // NullCodec the float written is the float read back (the reader takes care of -0.0).
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 
 #include "pipeline/io/files.h"
 

@@ -2,10 +2,10 @@
 // resolution, for papers. The particles come from simulating up to T, or from an existing cache
 // (--from OUT: the frame of OUT/particles nearest to T). Surfaces are built as the surface stage
 // does; --spheres shows the particles themselves, coloured by kind, speed or rest-density factor.
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/image_file.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/scene.h"
 #include "pipeline/sim_frame.h"

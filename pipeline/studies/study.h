@@ -155,7 +155,5 @@ std::vector<StudyRow> studyRowsFromCsv(const Study& study, const std::string& cs
 // The study's figure (error against time, or seconds by run) as FILE.png, .svg, .pdf and .gp.
 void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const std::filesystem::path& file);
 
-// kurage study STUDY.json -o OUT [--threads N] [--quiet]   (pipeline/cmd_study.cpp)
-int commandStudy(std::vector<std::string> args);
 
 }  // namespace kurage::pipeline

@@ -7,7 +7,7 @@
 // and shadow rays, each an Embree query), and seconds per frame (scene build included).
 //
 // With --rmse: image error against seconds for each integrator option, on the built-in scene or
-// on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, pipeline/measures.h) against a
+// on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, pipeline/analysis/image_rmse.h) against a
 // reference rendered once by the path tracer with environment sampling and --reference-spp
 // samples (another seed), and, for the whitted rows, also against whitted itself at 64 sub-pixel
 // samples and the row's sky directions (its only error is then aliasing). Every row but the
@@ -15,11 +15,11 @@
 // names. With --variance: where the noise comes from, the
 // RMSE between two renders that differ only in the seed, divided by sqrt(2) (the noise of one
 // render), for each light alone and for each path depth.
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 #include "pipeline/io/exr.h"
 #include "pipeline/io/surface_file.h"
-#include "pipeline/measures.h"
-#include "pipeline/particle_cache.h"
+#include "pipeline/analysis/image_rmse.h"
+#include "pipeline/io/particle_cache.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/stages.h"
 #include "render/surfacing.h"

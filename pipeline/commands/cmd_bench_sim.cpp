@@ -18,7 +18,7 @@
 // of a step count, so that solvers stepping differently are timed over the same part of the
 // collapse; `--max-density-error` sets DFSPH's tolerance, so that each solver can be timed at its
 // cheapest setting within a measured compression.
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 #include "sim/simulation.h"
 
 #include <nlohmann/json.hpp>

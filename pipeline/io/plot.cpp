@@ -1,4 +1,4 @@
-#include "pipeline/studies/plot.h"
+#include "pipeline/io/plot.h"
 
 #include "pipeline/io/files.h"
 #include "pipeline/io/process.h"

@@ -1,10 +1,8 @@
 // kurage: scene file -> particle simulation -> metaball surfaces -> ray-traced frames.
 // Only this file decides to exit; commands and libraries report errors to their caller.
-#include "pipeline/cli.h"
-#include "pipeline/farm/farm.h"
+#include "pipeline/commands/cli.h"
 #include "pipeline/interrupt.h"
 #include "pipeline/scene.h"
-#include "pipeline/study.h"
 #include "sim/simulation.h"
 
 #include <cstdio>

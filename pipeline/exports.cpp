@@ -1,4 +1,4 @@
-#include "pipeline/io/exports.h"
+#include "pipeline/exports.h"
 
 #include "pipeline/io/files.h"
 #include "pipeline/io/surface_file.h"

@@ -1,9 +1,12 @@
 // The kurage command line: a small argument parser shared by the commands, and one function per
-// command (each in its own pipeline/cmd_*.cpp). Commands report errors by throwing; only main()
-// turns them into exit codes (2 for UsageError and SceneError, 1 for anything else).
+// command, each in its own pipeline/commands/cmd_*.cpp. These files make the `kurage` executable
+// and nothing else; the libraries (pipeline/, pipeline/analysis/, pipeline/io/) never include
+// them. Commands report errors by throwing; only main() turns them into exit codes (2 for
+// UsageError and SceneError, 1 for anything else).
 #pragma once
 
 #include "pipeline/stages.h"
+#include "pipeline/thread_limit.h"
 
 #include <optional>
 #include <stdexcept>
@@ -51,29 +54,18 @@ extern const char* const kStageOptionsHelp;
 Quality parseQuality(ArgParser& args);
 extern const char* const kQualityHelp;
 
-// RAII limit on TBB's worker threads (no limit for 0).
-class ThreadLimit {
-public:
-  explicit ThreadLimit(int threads);
-  ~ThreadLimit();
-  ThreadLimit(const ThreadLimit&) = delete;
-  ThreadLimit& operator=(const ThreadLimit&) = delete;
-  static int current();
-
-private:
-  void* control_ = nullptr;
-};
-
 // Commands. `args` excludes the program and command names.
 int commandStage(const std::string& name, std::vector<std::string> args);  // run, sim, surface, render
 int commandCheck(std::vector<std::string> args);
 int commandSchema(std::vector<std::string> args);
 int commandBench(std::vector<std::string> args);  // dispatches to the bench* functions below
-int commandStill(std::vector<std::string> args);  // pipeline/cmd_still.cpp
-int commandPreview(std::vector<std::string> args);  // pipeline/cmd_preview.cpp
-int commandExport(std::vector<std::string> args);   // pipeline/cmd_export.cpp
-int benchSim(ArgParser& args);      // pipeline/cmd_bench_sim.cpp
-int benchRender(ArgParser& args);   // pipeline/cmd_bench_render.cpp
-int benchSurface(ArgParser& args);  // pipeline/cmd_bench_surface.cpp
+int commandStill(std::vector<std::string> args);  // pipeline/commands/cmd_still.cpp
+int commandPreview(std::vector<std::string> args);  // pipeline/commands/cmd_preview.cpp
+int commandExport(std::vector<std::string> args);   // pipeline/commands/cmd_export.cpp
+int benchSim(ArgParser& args);      // pipeline/commands/cmd_bench_sim.cpp
+int benchRender(ArgParser& args);   // pipeline/commands/cmd_bench_render.cpp
+int benchSurface(ArgParser& args);  // pipeline/commands/cmd_bench_surface.cpp
+int commandFarm(std::vector<std::string> args);   // pipeline/commands/cmd_farm.cpp
+int commandStudy(std::vector<std::string> args);  // pipeline/commands/cmd_study.cpp
 
 }  // namespace kurage::pipeline

@@ -1,5 +1,5 @@
 // kurage check SCENE, kurage schema
-#include "pipeline/cli.h"
+#include "pipeline/commands/cli.h"
 #include "pipeline/scene.h"
 #include "sim/simulation.h"
 

@@ -1,0 +1,148 @@
+#include "pipeline/analysis/still_tank.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace kurage::pipeline {
+
+HydrostaticTrack::HydrostaticTrack(const sim::SimParams& params, double filledHeight)
+    : l_(params.fluid.spacing), h_(params.fluid.supportRadiusMetres()), lo_(params.container.min),
+      hi_(params.container.max), rho0_(params.fluid.restDensity), rho0g_(params.fluid.restDensity * params.gravity.norm()),
+      g_(params.gravity.norm()),
+      area_(double(hi_.x() - lo_.x() - 2 * h_) * double(hi_.y() - lo_.y() - 2 * h_)),
+      filledHeight_(filledHeight) {}
+
+bool HydrostaticTrack::interior(const sim::ParticleSet& p, size_t i) const {
+  // Half-open, [lo + h, hi - h): a lattice whose rows fall on the edges puts exactly
+  // (hi - lo - 2h) / l rows over that width, whatever h / l (weightAbove's floor area).
+  return p.kind[i] == 0 && p.x[i] >= lo_.x() + h_ && p.x[i] < hi_.x() - h_ && p.y[i] >= lo_.y() + h_ &&
+         p.y[i] < hi_.y() - h_;
+}
+
+namespace {
+// The cubic spline kernel of support h integrated over a plane at distance s from its centre:
+// 2 pi int_{|s|}^{h} r W(r) dr = (16 / h) F(|s| / h), F(q) = int_q^1 t f(t) dt with
+// W = 8 / (pi h^3) f(r / h). It integrates to 1 over s, and on a lattice of layers l = h / 2
+// apart sums to exactly 1 / l at a point midway between two layers.
+double projectedCubicSpline(double s, double h) {
+  const double q = std::fabs(s) / h;
+  if (q >= 1.0) return 0.0;
+  const double t = 1.0 - q;
+  const double F = q >= 0.5 ? 0.5 * t * t * t * t - 0.4 * t * t * t * t * t
+                            : 0.0875 - q * q * (0.5 - q * q * (1.5 - 1.2 * q));
+  return 16.0 / h * F;
+}
+}  // namespace
+
+void HydrostaticTrack::sortInterior(const sim::ParticleSet& p, std::vector<std::pair<float, float>>& out) const {
+  out.clear();
+  for (size_t i = 0; i < p.size(); ++i)
+    if (interior(p, i)) out.emplace_back(p.z[i] - lo_.z(), p.mass[i]);
+  std::sort(out.begin(), out.end());
+}
+
+double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
+  std::vector<std::pair<float, float>> column;
+  sortInterior(p, column);
+  return surfaceOf(column);
+}
+
+double HydrostaticTrack::surfaceOf(const std::vector<std::pair<float, float>>& column) const {
+  // The level where the interior's colour field, averaged over its floor area, is one half:
+  // c(z) = sum_j V_j Wbar(z - z_j) / area over the interior particles, V_j = m_j / rho0, Wbar
+  // the cubic spline (support h) integrated over a horizontal plane (header).
+  if (column.empty() || !(area_ > 0.0)) return 0.0;
+  const double perMass = 1.0 / (rho0_ * area_);
+  const auto colour = [&](double z) {
+    double c = 0.0;
+    for (auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(float(z - h_), -1.0f));
+         it != column.end() && it->first < z + h_; ++it)
+      c += it->second * projectedCubicSpline(z - it->first, h_);
+    return c * perMass;
+  };
+  // Down from above the highest particle, where the field vanishes, in steps of a quarter
+  // spacing to the first height where it reaches one half; then bisection.
+  double above = column.back().first + h_, below = above;
+  while (colour(below) < 0.5) {
+    above = below;
+    below -= 0.25 * l_;
+    if (below < -h_) return 0.0;
+  }
+  for (int k = 0; k < 50 && above - below > 1e-9 * l_; ++k) {
+    const double mid = 0.5 * (above + below);
+    (colour(mid) < 0.5 ? above : below) = mid;
+  }
+  return 0.5 * (above + below);
+}
+
+void HydrostaticTrack::record(const sim::ParticleSet& p) {
+  // The interior's particles by height, once a sample: the surface and the sums from the top
+  // (weightAbove)
+  sortInterior(p, interiorZ_);
+  const double surface = surfaceOf(interiorZ_);
+  surfaceSum_ += surface;
+  ++samples_;
+  const double H = filledHeight_;
+  weightAbove_.assign(interiorZ_.size() + 1, 0.0);
+  momentAbove_.assign(interiorZ_.size() + 1, 0.0);
+  for (size_t k = interiorZ_.size(); k-- > 0;) {
+    const double weight = double(interiorZ_[k].second) * g_;
+    weightAbove_[k] = weightAbove_[k + 1] + weight;
+    momentAbove_[k] = momentAbove_[k + 1] + weight * interiorZ_[k].first;
+  }
+  // Inside [2h, H - 2h]: a layer [k l, (k + 1) l) or a slab [2 k l, 2 (k + 1) l) wholly inside.
+  auto inside = [&](int k, float thickness) {
+    return k * thickness >= 2 * h_ - 1e-3f * l_ && (k + 1) * thickness <= H - 2 * h_ + 1e-3f * l_;
+  };
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (!interior(p, i)) continue;
+    const float z = p.z[i] - lo_.z();
+    const double depth = surface - z;
+    const int layer = int(std::floor(z / l_)), k = int(std::floor(z / (2 * l_)));
+    if (inside(layer, l_)) {
+      Slab& s = layers_[layer];
+      s.sum += p.pressure[i] / (rho0g_ * depth);
+      ++s.count;
+    }
+    if (!inside(k, 2 * l_)) continue;
+    Slab& s = slabs_[k];
+    s.sum += p.pressure[i] / (rho0g_ * depth);
+    ++s.count;
+    Slab& f = filled_[k];
+    f.sum += p.pressure[i] / (rho0g_ * (H - z));
+    ++f.count;
+    Carried& c = carried_[k];
+    c.pressure += p.pressure[i];
+    c.weight += weightAbove(z);
+  }
+}
+
+double HydrostaticTrack::weightAbove(float z) const {
+  // Wholly above: centres above z + l/2; the fraction (z_j + l/2 - z) / l of those within l/2.
+  auto index = [&](float height) {
+    return size_t(std::lower_bound(interiorZ_.begin(), interiorZ_.end(), std::make_pair(height, -1.0f)) - interiorZ_.begin());
+  };
+  const size_t from = index(z - 0.5f * l_), to = index(z + 0.5f * l_);
+  const double window = weightAbove_[from] - weightAbove_[to], windowMoment = momentAbove_[from] - momentAbove_[to];
+  const double partial = (windowMoment + window * (0.5 * l_ - z)) / l_;
+  return area_ > 0.0 ? (weightAbove_[to] + partial) / area_ : 0.0;
+}
+
+double HydrostaticTrack::worstSlabAgainstWeight() const {
+  double w = 0.0;
+  for (const auto& [k, c] : carried_)
+    if (c.weight > 0.0) w = std::max(w, std::fabs(c.pressure / c.weight - 1.0));
+  return w;
+}
+
+double HydrostaticTrack::surfaceError() const {
+  return samples_ == 0 ? 0.0 : std::fabs(surfaceSum_ / samples_ - filledHeight_) / filledHeight_;
+}
+
+double HydrostaticTrack::worst(const std::map<int, Slab>& slabs) {
+  double w = 0.0;
+  for (const auto& [k, s] : slabs) w = std::max(w, std::fabs(s.sum / double(s.count) - 1.0));
+  return w;
+}
+
+}  // namespace kurage::pipeline
