@@ -4,10 +4,12 @@
 //   surface  OUT/particles/*.vdb -> OUT/surfaces/NNNN.vdb   (metaball level sets per material)
 //   render   OUT/surfaces/*.vdb  -> OUT/frames/NNNN.png     (and OUT/particles/*.vdb for chains)
 //   export   both                -> OUT/exports/...         (output.exports: PLY, OBJ, VTP)
-// and OUT/run.json records the parameters in effect, library versions and stage timings.
+// and OUT/run.json records the parameters in effect, library versions and stage timings
+// (pipeline/run_record.h).
 #pragma once
 
 #include "pipeline/io/particle_cache.h"
+#include "pipeline/run_record.h"
 #include "pipeline/scene.h"
 #include "render/image.h"
 #include "render/surfacing.h"
@@ -47,24 +49,6 @@ std::string stageHash(const Scene& scene, const std::string& stage);
 // The frames [first, last] a stage works on, checked against the scene. Throws
 // std::invalid_argument for a range outside 0 .. frameCount-1.
 std::pair<int, int> frameRange(const Scene& scene, const StageOptions& options);
-
-// OUT/run.json, read if it exists (so single-stage commands add to it) and rewritten atomically.
-class RunRecord {
-public:
-  // OUT/run.json, or OUT/records/TASK.json for a farm task (`task` not empty).
-  RunRecord(const std::filesystem::path& outDir, const Scene& scene, const std::string& sceneFile,
-            const std::string& task = "");
-  nlohmann::json& data() { return data_; }
-  void setStage(const std::string& name, nlohmann::json stage);
-  void save() const;
-
-private:
-  std::filesystem::path path_;
-  nlohmann::json data_;
-};
-
-// Versions of kurage and the libraries it uses.
-nlohmann::json versionInfo();
 
 // Sums a per-frame stage keeps over its frames (rays, voxels, seconds), by name.
 using FrameTally = std::map<std::string, double>;

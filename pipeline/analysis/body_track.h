@@ -1,0 +1,80 @@
+// The bodies of a run, frame by frame: each body's centre of mass and mean rest-density factor
+// (its stretch), each muscle's force as applied in the last step, the fluid's surface height
+// (the 98th percentile of the fluid particles' heights), and for each shell body (a jellyfish's
+// bell, pipeline/analysis/shell_wall.h) its margin radius, the fluid particles inside its wall,
+// its tilt, apex height and diameter. The sim stage records after every frame and writes
+// OUT/bodies.csv, and OUT/bodies.png where the scene has muscles (the muscles' force and each
+// body's depth against time, the paper's Fig. 3); run.json gets each shell's summary. Metres,
+// seconds, newtons, degrees.
+#pragma once
+
+#include "pipeline/analysis/shell_wall.h"
+#include "sim/params.h"
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace kurage::sim {
+class Simulation;
+}
+
+namespace kurage::pipeline {
+
+class BodyTrack {
+public:
+  // `params`: the scene's simulation (it must outlive the track); `frameCount`: the most rows a
+  // checkpoint may hold.
+  BodyTrack(const sim::SimParams& params, std::string sceneName, int frameCount);
+
+  // The shells as built: call with the simulation at t = 0, before any record.
+  void start(const sim::Simulation& simulation);
+  // One row at the simulation's time (nothing for a scene without bodies).
+  void record(const sim::Simulation& simulation);
+
+  // The rows so far, for checkpoints (pipeline/io/checkpoint.h).
+  std::string saveState() const;
+  // Throws sim::StateError for rows that do not fit the scene.
+  void restoreState(const std::string& bytes);
+
+  // Per shell body, for run.json: the margin radius at rest (t = 0) and its smallest value, and
+  // the most fluid particles found inside the wall in a frame (ShellWall::fluidInsideWall);
+  // null for another body.
+  nlohmann::json shellSummary(size_t body) const;
+
+  // OUT/bodies.csv, and OUT/bodies.png (with .svg, .pdf, .gp) when the scene has muscles.
+  void write(const std::filesystem::path& outDir) const;
+
+private:
+  // The swimming speed of a shell with a pulsed muscle (its first), in bell diameters per pulse:
+  // the net rise of its apex from the first pulse's start to the end of its tenth period (or of
+  // the last whole period recorded), over the pulses, over the diameter at rest.
+  nlohmann::json swimSummary(size_t body, size_t k) const;
+  // The muscles' force against time, with each body's measured depth below the free surface.
+  void writePlot(const std::filesystem::path& file) const;
+
+  struct Row {
+    double time = 0.0;
+    double surface = 0.0;
+    std::vector<Eigen::Vector3d> centres;
+    std::vector<double> factors;
+    std::vector<double> forces;
+    std::vector<double> margins;  // per shell body: margin radius (m)
+    std::vector<size_t> inWall;   // per shell body: fluid particles inside its wall
+    std::vector<double> tilts;    // per shell body: tilt from its axis as built (degrees)
+    std::vector<double> apexes;   // per shell body: height of its highest particle (m)
+    std::vector<double> widths;   // per shell body: its diameter (ShellWall::shape, m)
+  };
+  const sim::SimParams& params_;
+  std::string sceneName_;
+  int frameCount_ = 0;
+  std::vector<std::optional<ShellWall>> walls_;  // per body; shells only
+  std::vector<Row> rows_;
+};
+
+}  // namespace kurage::pipeline

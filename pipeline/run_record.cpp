@@ -1,0 +1,165 @@
+#include "pipeline/run_record.h"
+
+#include "pipeline/io/files.h"
+#include "render/surfacing.h"
+#include "render/tracer.h"
+#include "sim/simulation.h"
+
+#include <Eigen/Core>
+#include <png.h>
+#include <tbb/version.h>
+
+#include <algorithm>
+#include <iostream>
+
+namespace kurage::pipeline {
+
+namespace fs = std::filesystem;
+
+nlohmann::json versionInfo() {
+  return {{"kurage", KURAGE_VERSION},
+          {"openvdb", render::openvdbVersion()},
+          {"embree", render::embreeVersion()},
+          {"tbb", TBB_VERSION_STRING},
+          {"eigen", std::to_string(EIGEN_WORLD_VERSION) + "." + std::to_string(EIGEN_MAJOR_VERSION) + "." +
+                        std::to_string(EIGEN_MINOR_VERSION)},
+          {"libpng", PNG_LIBPNG_VER_STRING},
+          {"nlohmann_json", std::to_string(NLOHMANN_JSON_VERSION_MAJOR) + "." +
+                                std::to_string(NLOHMANN_JSON_VERSION_MINOR) + "." +
+                                std::to_string(NLOHMANN_JSON_VERSION_PATCH)}};
+}
+
+RunRecord::RunRecord(const fs::path& outDir, const Scene& scene, const std::string& sceneFile, const std::string& task)
+    : path_(task.empty() ? outDir / "run.json" : outDir / "records" / (task + ".json")) {
+  if (!task.empty()) fs::create_directories(path_.parent_path());
+  if (fs::exists(path_)) {
+    try {
+      data_ = nlohmann::json::parse(readText(path_));
+    } catch (const std::exception&) {
+      data_ = nlohmann::json::object();  // an unreadable record is replaced, not trusted
+    }
+  }
+  if (!data_.is_object()) data_ = nlohmann::json::object();
+  data_["scene_file"] = sceneFile;
+  data_["versions"] = versionInfo();
+  data_["parameters"] = sceneToJson(scene);
+  if (!data_.contains("stages")) data_["stages"] = nlohmann::json::object();
+}
+
+void RunRecord::setStage(const std::string& name, nlohmann::json stage) { data_["stages"][name] = std::move(stage); }
+
+void RunRecord::save() const { writeTextAtomic(path_, data_.dump(2) + "\n"); }
+
+void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation& simulation, const BodyTrack& track,
+                    const SimStageRun& run) {
+  const sim::SimStats& stats = simulation.stats();
+  nlohmann::json bounds = nlohmann::json::object();
+  for (size_t b = 0; b < size_t(sim::StepBound::Count); ++b)
+    if (stats.boundCounts[b]) bounds[std::string(sim::stepBoundName(sim::StepBound(b)))] = stats.boundCounts[b];
+  nlohmann::json stageTimes = nlohmann::json::object();
+  nlohmann::json stagesRun = nlohmann::json::array();
+  double stepSeconds = 0.0;
+  for (size_t s = 0; s < size_t(sim::Stage::Count); ++s) stepSeconds += stats.stageSeconds[s];
+  for (size_t s = 0; s < size_t(sim::Stage::Count); ++s)
+    if (stats.stageRan(sim::Stage(s))) {
+      const std::string name(sim::stageName(sim::Stage(s)));
+      stagesRun.push_back(name);
+      stageTimes[name] = {{"seconds", stats.stageSeconds[s]},
+                          {"share", stepSeconds > 0.0 ? stats.stageSeconds[s] / stepSeconds : 0.0},
+                          {"calls", stats.stageCalls[s]}};
+    }
+  const sim::SolverStats& ss = simulation.solver().stats();
+  const double solverSteps = std::max<double>(1.0, double(ss.steps));
+  nlohmann::json solver = {
+      {"name", scene.sim.fluid.solver},
+      {"mean_density_error", stats.steps ? stats.densityErrorSum / double(stats.steps) : 0.0},
+      {"max_density_error", stats.densityErrorMax},
+      {"density_error_note", "compression measured by each step's density pass: mean over fluid particles of "
+                             "max(rho - rho0, 0) / rho0; the run's mean and largest (fractions)"}};
+  if (!simulation.solver().pressureInForces()) {
+    solver["density_solve"] = {{"mean_iterations", double(ss.densityIterations) / solverSteps},
+                               {"max_iterations", ss.maxDensityIterations},
+                               {"cap", scene.sim.fluid.maxIterations},
+                               {"cap_hits", ss.densityCapHits},
+                               {"final_error", ss.lastDensityError},
+                               {"mean_final_error", ss.sumDensityError / solverSteps},
+                               {"max_final_error", ss.maxDensityError},
+                               {"tolerance", 0.01 * scene.sim.fluid.maxDensityError}};
+    solver["divergence_solve"] = {{"method", scene.sim.fluid.divergenceSolve == sim::DivergenceSolve::Jacobi ? "jacobi" : "cg"},
+                                  {"mean_iterations", double(ss.divergenceIterations) / solverSteps},
+                                  {"max_iterations", ss.maxDivergenceIterations},
+                                  {"cap", scene.sim.fluid.maxDivergenceIterations},
+                                  {"cap_hits", ss.divergenceCapHits},
+                                  {"final_error", ss.lastDivergenceError},
+                                  {"tolerance", 0.01 * scene.sim.fluid.maxDivergenceError}};
+    solver["torn_body_particles"] = {
+        {"steps", ss.tornSteps},
+        {"max_at_once", ss.maxTorn},
+        {"note", "telescopic body particles stretched until their rest density fell below a quarter of its "
+                 "initial value, left out of the solves' unknowns (docs/PHYSICS.md, Bodies under DFSPH)"}};
+    if (ss.tornSteps)
+      std::cerr << "kurage: warning: in " << ss.tornSteps << " of " << ss.steps << " steps (up to " << ss.maxTorn
+                << " at once) telescopic body particles were stretched below a quarter of their rest density and "
+                   "left out of the " << scene.sim.fluid.solver << " solver's unknowns; see run.json "
+                   "stages.sim.solver.torn_body_particles\n";
+    if (ss.densityCapHits || ss.divergenceCapHits)
+      std::cerr << "kurage: warning: the " << scene.sim.fluid.solver << " solver stopped at its iteration cap in "
+                << ss.densityCapHits << " density and " << ss.divergenceCapHits << " divergence solves of "
+                << ss.steps << " steps (fluid.max_iterations " << scene.sim.fluid.maxIterations
+                << ", fluid.max_divergence_iterations " << scene.sim.fluid.maxDivergenceIterations
+                << "): the density error there is above the tolerance; see run.json stages.sim.solver\n";
+  }
+  if (const sim::BoundaryParticles* bp = simulation.boundaryParticles()) solver["boundary_particles"] = bp->size();
+  // fluid.kernel as run ("auto" resolved)
+  solver["kernel"] = simulation.params().fluid.kernel == sim::SphKernel::CubicSpline ? "cubic_spline" : "mueller2003";
+  const sim::StepLimit stability = simulation.stabilityLimit();
+  record.data()["derived"] = {
+      {"fluid_particle_mass_kg", simulation.fluidParticleMass()},
+      {"fluid_particle_mass_note", "calibrated so that a particle deep inside the initial lattice has density rho0"},
+      {"support_radius_m", scene.sim.fluid.supportRadiusMetres()},
+      {"speed_of_sound_m_per_s", simulation.solver().incompressible() ? 0.0 : scene.sim.fluid.speedOfSound()},
+      {"stability_bound_at_rest_s", stability.step},
+      {"stability_bound_at_rest_active", sim::stepBoundName(stability.bound)},
+      {"frame_count", scene.output.frameCount()}};
+  record.setStage("sim", {{"seconds", run.seconds},
+                          {"frames", {run.first, run.last}},
+                          {"resumed_after_frame", run.resumedAfter >= 0 ? nlohmann::json(run.resumedAfter) : nlohmann::json(nullptr)},
+                          {"checkpoint", {{"file", run.checkpoint.filename().string()}, {"frame", run.checkpointFrame},
+                                          {"every_frames", run.checkpointEvery}}},
+                          {"particles", simulation.particles().size()},
+                          {"emitted_particles", stats.emitted},
+                          {"emitter_blocked_positions", stats.emitterBlocked},
+                          {"removed_by_sinks", stats.removed},
+                          {"steps", stats.steps},
+                          {"min_step_s", stats.minStep},
+                          {"max_step_s", stats.maxStep},
+                          {"active_bound_counts", bounds},
+                          {"stages_run", stagesRun},
+                          {"step_stages", stageTimes},
+                          {"solver", solver}});
+  if (const sim::BodySystem* bodies = simulation.bodies()) {
+    nlohmann::json list = nlohmann::json::array();
+    for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
+    {
+      list.push_back({{"name", scene.sim.bodies[b].name},
+                      {"kind", b + 1},
+                      {"particle_mass_kg", bodies->particleMass(b)},
+                      {"rest_density_kg_per_m3", bodies->restDensity(b)},
+                      {"mean_specific_gravity", bodies->meanSpecificGravity(b)}});
+      if (nlohmann::json shell = track.shellSummary(b); !shell.is_null()) list.back()["shell"] = std::move(shell);
+    }
+    const sim::BodyStats& bs = bodies->stats();
+    record.data()["stages"]["sim"]["bodies"] = {
+        {"bodies", list},
+        {"body_particles", bodies->particleCount()},
+        {"springs", bodies->springCount()},
+        {"spring_step_bound_s", bodies->springStep() * scene.sim.timeStep.springFactor},
+        {"collision_cap", scene.sim.collisions.maxPasses},
+        {"collision_cap_hits", bs.capHits},
+        {"collision_passes", bs.collisionPasses},
+        {"collisions_resolved", bs.collisionsResolved},
+        {"most_collision_passes_in_a_step", bs.mostPasses}};
+  }
+}
+
+}  // namespace kurage::pipeline
