@@ -3,9 +3,36 @@
 #include "pipeline/io/files.h"
 #include "pipeline/studies/study.h"
 
+#include <algorithm>
 #include <cstdio>
+#include <sstream>
+#include <string>
 
 namespace kurage::pipeline {
+
+namespace {
+
+// "  name               description", the description wrapped at 100 columns under itself.
+void printMeasure(const StudyMeasure& m) {
+  std::string line = "  " + std::string(m.name);
+  line.resize(std::max<size_t>(line.size() + 1, 21), ' ');
+  const size_t indent = line.size();
+  std::istringstream words(m.description);
+  std::string word;
+  bool first = true;
+  while (words >> word) {
+    if (!first && line.size() + 1 + word.size() > 100) {
+      std::printf("%s\n", line.c_str());
+      line.assign(indent, ' ');
+      first = true;
+    }
+    line += (first ? "" : " ") + word;
+    first = false;
+  }
+  std::printf("%s\n", line.c_str());
+}
+
+}  // namespace
 
 int commandStudy(std::vector<std::string> rawArgs) {
   ArgParser args("study", std::move(rawArgs));
@@ -27,7 +54,9 @@ int commandStudy(std::vector<std::string> rawArgs) {
         "                     .pdf and the gnuplot script FIGURE.gp), run nothing\n"
         "  --threads N        worker threads (default: all cores)\n"
         "  --quiet            no line per run on stderr\n"
-        "  -h, --help         this help\n");
+        "  -h, --help         this help\n\n"
+        "measures (the study's \"measure\"):\n");
+    for (const StudyMeasure& m : studyMeasures()) printMeasure(m);
     return 0;
   }
   StudyOptions options;

@@ -1,286 +1,21 @@
 #include "pipeline/studies/study.h"
 
 #include "pipeline/io/files.h"
-#include "pipeline/io/image_file.h"
-#include "pipeline/analysis/body_measures.h"
-#include "pipeline/analysis/dam_break.h"
-#include "pipeline/analysis/image_rmse.h"
-#include "pipeline/analysis/still_tank.h"
-#include "pipeline/analysis/surface_distance.h"
-#include "pipeline/io/particle_cache.h"
-#include "pipeline/stages.h"
-#include "pipeline/thread_limit.h"
 #include "pipeline/io/plot.h"
-#include "render/tracer.h"
+#include "pipeline/thread_limit.h"
 #include "sim/simulation.h"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <limits>
-#include <map>
 #include <optional>
 #include <sstream>
 
 namespace kurage::pipeline {
 
 namespace fs = std::filesystem;
-// ---- Running ----
-
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double secondsSince(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
-
-// The parts of a scene's JSON that the simulation depends on (the key of the simulation cache),
-// and those the surfaces depend on.
-std::string simulationKey(nlohmann::json doc) {
-  for (const char* k : {"$schema", "name", "description", "output", "surface", "render"}) doc.erase(k);
-  return doc.dump();
-}
-std::string surfaceKey(const nlohmann::json& doc) {
-  return simulationKey(doc) + (doc.contains("surface") ? doc["surface"].dump() : std::string());
-}
-
-struct SimOutcome {
-  sim::ParticleSet particles;
-  sim::SimStats stats;
-  sim::SolverStats solver;
-  double seconds = 0.0;
-  size_t capHits = 0;
-};
-
-// Runs the simulation to `duration`, calling `sample(sim)` at each of `times` (sorted, within
-// the duration); sampling is not timed.
-template <class Sample>
-SimOutcome simulate(const Scene& scene, double duration, const std::vector<double>& times, Sample sample) {
-  SimOutcome out;
-  const auto start = Clock::now();
-  sim::Simulation simulation(scene.sim);
-  double seconds = secondsSince(start);
-  for (double t : times) {
-    const auto s = Clock::now();
-    simulation.advanceTo(t);
-    seconds += secondsSince(s);
-    sample(simulation);
-  }
-  const auto s = Clock::now();
-  simulation.advanceTo(duration);
-  seconds += secondsSince(s);
-  out.seconds = seconds;
-  out.particles = simulation.particles();
-  out.stats = simulation.stats();
-  out.solver = simulation.solver().stats();
-  if (const sim::BodySystem* bodies = simulation.bodies()) out.capHits = bodies->stats().capHits;
-  return out;
-}
-
-void takeSimFigures(StudyRow& row, const SimOutcome& sim) {
-  row.simSeconds = sim.seconds;
-  row.simStages.assign(sim.stats.stageSeconds.begin(), sim.stats.stageSeconds.end());
-  row.steps = sim.stats.steps;
-  row.particles = sim.particles.size();
-}
-
-ParticleFrame frameOf(const sim::ParticleSet& p, double time) {
-  ParticleFrame f;
-  f.time = time;
-  f.px = p.x; f.py = p.y; f.pz = p.z;
-  f.vx = p.vx; f.vy = p.vy; f.vz = p.vz;
-  f.id = p.id;
-  f.kind = p.kind;
-  return f;
-}
-
-class StudyRunner {
-public:
-  explicit StudyRunner(const Study& study) : study_(study) {
-    if (study.measure == StudyMeasure::DamBreakFront || study.measure == StudyMeasure::DamBreakColumn)
-      reference_ = loadMartinMoyce(studyPath(study, study.referenceData));
-  }
-
-  void run(const nlohmann::json& doc, const Scene& scene, StudyRow& row) {
-    switch (study_.measure) {
-      case StudyMeasure::DamBreakFront:
-      case StudyMeasure::DamBreakColumn: damBreak(scene, row); break;
-      case StudyMeasure::Buoyancy: buoyancy(scene, row); break;
-      case StudyMeasure::HydrostaticTank: stillTank(scene, row); break;
-      case StudyMeasure::MembraneLeak: membrane(scene, row); break;
-      case StudyMeasure::SurfaceDistance: surfaceDistanceRun(doc, scene, row); break;
-      case StudyMeasure::RenderRmse: renderRmseRun(doc, scene, row); break;
-      case StudyMeasure::DensityError: {
-        const SimOutcome sim = simulate(scene, study_.duration, {}, [](const sim::Simulation&) {});
-        takeSimFigures(row, sim);
-        row.totalSeconds = row.simSeconds;
-        const double steps = std::max<double>(1.0, double(sim.stats.steps));
-        row.error = sim.stats.densityErrorSum / steps;
-        row.figures = {sim.stats.densityErrorMax, double(sim.stats.steps)};
-        break;
-      }
-      case StudyMeasure::None: {
-        takeSimFigures(row, simulate(scene, study_.duration, {}, [](const sim::Simulation&) {}));
-        row.totalSeconds = row.simSeconds;
-        break;
-      }
-    }
-  }
-
-private:
-  void damBreak(const Scene& scene, StudyRow& row) {
-    const sim::FluidBlock& block = scene.sim.fluidBlocks.front();
-    DamBreakGeometry g;
-    g.width = block.max.x() - block.min.x();
-    g.height = block.max.z() - block.min.z();
-    g.gravity = scene.sim.gravity.norm();
-    g.spacing = scene.sim.fluid.spacing;
-    g.origin = scene.sim.container.min.cast<double>();
-    DamBreakTrack track(g);
-    std::vector<double> times;  // every 0.05 in tau, as tests/test_dam_break.cpp
-    for (int k = 1; track.timeAtTau(0.05 * k) < study_.duration * (1.0 - 1e-9); ++k) times.push_back(track.timeAtTau(0.05 * k));
-    times.push_back(study_.duration);
-    const SimOutcome sim = simulate(scene, study_.duration, times,
-                                    [&](const sim::Simulation& s) { track.record(s.particles(), s.time()); });
-    takeSimFigures(row, sim);
-    row.totalSeconds = row.simSeconds;
-    const SeriesError front = meanRelativeError(track.front(), reference_.surgeFront);
-    const SeriesError column = meanRelativeError(track.column(), reference_.columnHeight);
-    row.figures = {front.meanRelative, column.meanRelative, double(front.points), double(column.points)};
-    const SeriesError& chosen = study_.measure == StudyMeasure::DamBreakFront ? front : column;
-    if (chosen.points == 0) throw std::runtime_error("the run ends before the first reference point");
-    row.error = chosen.meanRelative;
-  }
-
-  void buoyancy(const Scene& scene, StudyRow& row) {
-    const std::vector<double> times = sampleTimes();
-    double sum = 0.0;
-    const int kind = study_.body + 1;
-    const SimOutcome sim = simulate(scene, study_.duration, times, [&](const sim::Simulation& s) {
-      sum += submergedFraction(s.particles(), kind, scene.sim.fluid.spacing);
-    });
-    takeSimFigures(row, sim);
-    row.totalSeconds = row.simSeconds;
-    const double fraction = sum / double(times.size());
-    const double gravity = scene.sim.bodies[size_t(study_.body)].specificGravity;
-    row.figures = {fraction, gravity, double(times.size())};
-    row.error = std::fabs(fraction - gravity);
-  }
-
-  // The times from average_from (half the duration when not given) to the duration, every
-  // sample_interval.
-  std::vector<double> sampleTimes() const {
-    const double from = study_.averageFrom < 0.0f ? 0.5 * study_.duration : study_.averageFrom;
-    std::vector<double> times;
-    for (int k = 0; from + k * double(study_.sampleInterval) <= study_.duration * (1.0 + 1e-9); ++k)
-      times.push_back(std::min<double>(from + k * double(study_.sampleInterval), study_.duration));
-    return times;
-  }
-
-  void stillTank(const Scene& scene, StudyRow& row) {
-    const double filled = scene.sim.fluidBlocks.front().max.z() - scene.sim.container.min.z();
-    HydrostaticTrack track(scene.sim, filled);
-    const std::vector<double> times = sampleTimes();
-    const SimOutcome sim = simulate(scene, study_.duration, times, [&](const sim::Simulation& s) { track.record(s.particles()); });
-    takeSimFigures(row, sim);
-    row.totalSeconds = row.simSeconds;
-    if (track.slabs() == 0) throw std::runtime_error("no interior slab: the tank is shallower than 4 h");
-    const sim::SolverStats& solver = sim.solver;
-    const double iterations =
-        solver.steps ? double(solver.densityIterations + solver.divergenceIterations) / double(solver.steps) : 0.0;
-    row.figures = {track.surfaceError(), rmsSpeed(sim.particles, 0), track.worstSlabBelowFilled(), double(track.slabs()),
-                   double(track.samples()), iterations, track.worstSlabAgainstWeight(), track.worstLayer()};
-    row.error = track.worstSlab();
-  }
-
-  void membrane(const Scene& scene, StudyRow& row) {
-    const SimOutcome sim = simulate(scene, study_.duration, {}, [](const sim::Simulation&) {});
-    takeSimFigures(row, sim);
-    row.totalSeconds = row.simSeconds;
-    const MembraneLeak leak = membraneLeak(sim.particles, study_.body + 1, scene.sim.fluid.spacing);
-    row.figures = {double(leak.leaked), double(leak.fluid),
-                   leak.fluid ? double(leak.leaked) / double(leak.fluid) : 0.0, double(sim.capHits)};
-    row.error = double(leak.leaked);
-  }
-
-  const SimOutcome& cachedSimulation(const nlohmann::json& doc, const Scene& scene) {
-    const std::string key = simulationKey(doc);
-    if (simKey_ != key || !sim_) {
-      sim_ = simulate(scene, study_.duration, {}, [](const sim::Simulation&) {});
-      simKey_ = key;
-    }
-    return *sim_;
-  }
-
-  void surfaceDistanceRun(const nlohmann::json& doc, const Scene& scene, StudyRow& row) {
-    const SimOutcome& sim = cachedSimulation(doc, scene);
-    takeSimFigures(row, sim);
-    std::vector<Eigen::Vector3f> points;
-    for (size_t i = 0; i < sim.particles.size(); ++i)
-      if (sim.particles.kind[i] == 0) points.emplace_back(sim.particles.x[i], sim.particles.y[i], sim.particles.z[i]);
-    if (points.empty()) throw std::runtime_error("no fluid particles to surface");
-    // The fastest of three builds: surfacing takes milliseconds, where one build is noisy.
-    render::LevelSet levelSet;
-    double best = std::numeric_limits<double>::infinity();
-    for (int k = 0; k < 3; ++k) {
-      const auto start = Clock::now();
-      levelSet = render::buildMetaballLevelSet(points, scene.surface.fluid);
-      best = std::min(best, secondsSince(start));
-    }
-    row.surfaceSeconds = best;
-    row.totalSeconds = best;
-    const MetaballField field(points, scene.surface.fluid);
-    const SurfaceDistance d = surfaceDistance(levelSet, field, scene.surface.fluid, study_.rays);
-    row.figures = {d.max, d.rms, double(d.rays), double(d.misses), double(levelSet.activeVoxelCount()),
-                   double(levelSet.memoryBytes()) / 1e6};
-    if (d.rays == 0) throw std::runtime_error("no ray crossed both surfaces");
-    row.error = d.mean;
-  }
-
-  void renderRmseRun(const nlohmann::json& doc, const Scene& scene, StudyRow& row) {
-    const SimOutcome& sim = cachedSimulation(doc, scene);
-    takeSimFigures(row, sim);
-    const std::string key = surfaceKey(doc);
-    if (surfacesKey_ != key) {
-      const auto start = Clock::now();
-      surfaces_ = surfaceFrame(scene, frameOf(sim.particles, study_.duration));
-      surfaceSeconds_ = secondsSince(start);
-      surfacesKey_ = key;
-    }
-    row.surfaceSeconds = surfaceSeconds_;
-    // The reference: the same scene with many samples, a deep path and another seed (so that its
-    // noise is independent of the run's).
-    nlohmann::json referenceDoc = doc;
-    setJsonPath(referenceDoc, "render.samples", study_.referenceSamples);
-    setJsonPath(referenceDoc, "render.max_depth", study_.referenceMaxDepth);
-    const int seed = scene.render.settings.seed;
-    setJsonPath(referenceDoc, "render.seed", seed == 2147483647 ? 0 : seed + 1);
-    for (const auto& [path, value] : study_.referenceSet.items()) setJsonPath(referenceDoc, path, value);
-    const std::string referenceKey = key + referenceDoc["render"].dump();
-    if (referenceKey_ != referenceKey) {
-      const Scene referenceScene = parseScene(referenceDoc, "reference");
-      const auto start = Clock::now();
-      reference_image_ = renderSurfaces(referenceScene, surfaces_, study_.duration);
-      referenceSeconds_ = secondsSince(start);
-      referenceKey_ = referenceKey;
-    }
-    render::RenderStats stats;
-    const auto start = Clock::now();
-    const render::Image image = renderSurfaces(scene, surfaces_, study_.duration, &stats);
-    row.renderSeconds = secondsSince(start);
-    row.totalSeconds = row.renderSeconds;
-    row.figures = {double(stats.totalRays) * 1e-6, referenceSeconds_};
-    row.error = imageRmse(image, reference_image_);
-  }
-
-  const Study& study_;
-  MartinMoyce reference_;
-  std::optional<SimOutcome> sim_;
-  std::string simKey_, surfacesKey_, referenceKey_;
-  std::map<std::string, render::LevelSet> surfaces_;
-  double surfaceSeconds_ = 0.0, referenceSeconds_ = 0.0;
-  render::Image reference_image_;
-};
 
 // ---- Output ----
 
@@ -318,11 +53,11 @@ std::vector<size_t> stagesUsed(const std::vector<StudyRow>& rows) {
   return used;
 }
 
-bool timesSurface(StudyMeasure m) { return m == StudyMeasure::SurfaceDistance || m == StudyMeasure::RenderRmse; }
-bool timesRender(StudyMeasure m) { return m == StudyMeasure::RenderRmse; }
+bool timesSurface(const StudyMeasure& m) { return m.timed != StudyTimed::Simulation; }
+bool timesRender(const StudyMeasure& m) { return m.timed == StudyTimed::Rendering; }
 
 std::string studyCsv(const Study& study, const std::vector<StudyRow>& rows) {
-  const std::vector<std::string> figures = studyFigureNames(study.measure);
+  const std::vector<std::string>& figures = study.measure->figures;
   const std::vector<size_t> stages = stagesUsed(rows);
   std::ostringstream csv;
   for (const StudyKnob& k : study.knobs) csv << csvField(k.name) << ",";
@@ -330,17 +65,17 @@ std::string studyCsv(const Study& study, const std::vector<StudyRow>& rows) {
   for (const std::string& f : figures) csv << "," << f;
   csv << ",total_s,sim_s";
   for (size_t s : stages) csv << ",sim_" << sim::stageName(sim::Stage(s)) << "_s";
-  if (timesSurface(study.measure)) csv << ",surface_s";
-  if (timesRender(study.measure)) csv << ",render_s";
+  if (timesSurface(*study.measure)) csv << ",surface_s";
+  if (timesRender(*study.measure)) csv << ",render_s";
   csv << ",steps,particles,message\n";
   for (const StudyRow& r : rows) {
     for (const std::string& label : r.knobLabels) csv << csvField(label) << ",";
-    csv << (r.ok ? "ok" : "failed") << "," << (r.ok && study.measure != StudyMeasure::None ? number(r.error) : "");
+    csv << (r.ok ? "ok" : "failed") << "," << (r.ok && study.measure->scored() ? number(r.error) : "");
     for (size_t f = 0; f < figures.size(); ++f) csv << "," << (f < r.figures.size() ? number(r.figures[f]) : "");
     csv << "," << number(r.totalSeconds) << "," << number(r.simSeconds);
     for (size_t s : stages) csv << "," << (s < r.simStages.size() ? number(r.simStages[s]) : "");
-    if (timesSurface(study.measure)) csv << "," << number(r.surfaceSeconds);
-    if (timesRender(study.measure)) csv << "," << number(r.renderSeconds);
+    if (timesSurface(*study.measure)) csv << "," << number(r.surfaceSeconds);
+    if (timesRender(*study.measure)) csv << "," << number(r.renderSeconds);
     csv << "," << r.steps << "," << r.particles << "," << csvField(r.message) << "\n";
   }
   return csv.str();
@@ -358,45 +93,6 @@ bool wantsLog(const std::vector<double>& values) {
   return hi > 0.0 && hi >= 10.0 * lo;
 }
 
-const char* timedStages(StudyMeasure m) {
-  switch (m) {
-    case StudyMeasure::SurfaceDistance: return "surfacing";
-    case StudyMeasure::RenderRmse: return "rendering";
-    default: return "simulation";
-  }
-}
-
-std::string errorUnit(StudyMeasure m) {
-  switch (m) {
-    case StudyMeasure::DamBreakFront: return "surge front, mean relative error vs Martin & Moyce";
-    case StudyMeasure::DamBreakColumn: return "column height, mean relative error vs Martin & Moyce";
-    case StudyMeasure::Buoyancy: return "|submerged fraction - specific gravity|";
-    case StudyMeasure::MembraneLeak: return "fluid particles through the membrane";
-    case StudyMeasure::SurfaceDistance: return "mean distance from the exact surface (m)";
-    case StudyMeasure::RenderRmse: return "RMSE vs reference (sRGB)";
-    case StudyMeasure::DensityError: return "mean compression of the fluid over the run, fraction of rho0";
-    case StudyMeasure::HydrostaticTank: return "worst interior slab's |p / (rho0 g depth) - 1|, slabs two spacings thick, averaged over the samples";
-    case StudyMeasure::None: return "";
-  }
-  return "";
-}
-
-std::string errorAxis(StudyMeasure m) {
-  switch (m) {
-    case StudyMeasure::DamBreakFront: return "surge front error";
-    case StudyMeasure::DamBreakColumn: return "column height error";
-    case StudyMeasure::Buoyancy: return "|fraction - s.g.|";
-    case StudyMeasure::MembraneLeak: return "particles through";
-    case StudyMeasure::SurfaceDistance: return "mean distance (m)";
-    case StudyMeasure::RenderRmse: return "RMSE (sRGB)";
-    case StudyMeasure::DensityError: return "mean density error";
-    case StudyMeasure::HydrostaticTank: return "worst slab pressure error";
-    case StudyMeasure::None: return "";
-  }
-  return "";
-}
-
-
 std::string joinLabels(const Study& study, const StudyRow& r) {
   std::string out;
   for (size_t k = 0; k < r.knobLabels.size(); ++k)
@@ -405,21 +101,21 @@ std::string joinLabels(const Study& study, const StudyRow& r) {
 }
 
 std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows, const StudyOptions& options) {
-  const std::vector<std::string> figures = studyFigureNames(study.measure);
+  const std::vector<std::string>& figures = study.measure->figures;
   std::ostringstream md;
   md << "# Study: " << study.name << "\n\n";
   if (!study.description.empty()) md << study.description << "\n\n";
   md << "`kurage study " << study.file.generic_string() << " -o OUT";
   if (options.threads > 0) md << " --threads " << options.threads;
-  md << "`: base scene `" << study.scene << "`, measure `" << studyMeasureName(study.measure) << "`";
-  if (study.measure != StudyMeasure::None) md << " (" << errorUnit(study.measure) << ")";
+  md << "`: base scene `" << study.scene << "`, measure `" << study.measure->name << "`";
+  if (study.measure->scored()) md << " (" << study.measure->errorUnit << ")";
   md << ", " << shortNumber(study.duration) << " s simulated";
-  if (study.measure != StudyMeasure::None) md << ", accepted error " << shortNumber(study.errorThreshold);
-  md << "; the time is the wall time of " << timedStages(study.measure);
+  if (study.measure->scored()) md << ", accepted error " << shortNumber(study.errorThreshold);
+  md << "; the time is the wall time of " << study.measure->timedName();
   if (study.repeat > 1) md << ", the fastest of " << study.repeat << " runs";
   md << ".\n\n";
 
-  if (study.measure == StudyMeasure::None) {
+  if (!study.measure->scored()) {
     // What each variant costs, stage by stage, against the first run.
     const std::vector<size_t> stages = stagesUsed(rows);
     md << "| run | sim s | steps | saves vs first |";
@@ -526,7 +222,7 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
   plot.title = study.name;
   plot.width = 900;
   plot.height = 560;
-  if (study.measure == StudyMeasure::None) {
+  if (!study.measure->scored()) {
     // Timing only: the seconds of each run, in the order of the runs, and of the step stages that
     // take at least 5 % of some run.
     plot.title = study.name + ": simulation seconds by run and stage";
@@ -579,9 +275,9 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
   size_t failed = 0;
   for (const StudyRow& r : rows) failed += !r.ok;
   const std::string failures = failed ? " (" + std::to_string(failed) + " failed: study.csv)" : "";
-  plot.title = study.name + ": " + errorUnit(study.measure) + failures;
-  plot.x.label = std::string("seconds (") + timedStages(study.measure) + ")";
-  plot.y.label = errorAxis(study.measure);
+  plot.title = study.name + ": " + study.measure->errorUnit + failures;
+  plot.x.label = std::string("seconds (") + study.measure->timedName() + ")";
+  plot.y.label = study.measure->errorAxis;
   std::vector<double> xs, ys;
   for (const StudyRow& r : rows)
     if (r.ok) {
@@ -651,7 +347,7 @@ std::vector<StudyRow> studyRowsFromCsv(const Study& study, const std::string& cs
     if (!column(required)) throw std::runtime_error(file + ": no column '" + required + "': not a study.csv");
   for (const StudyKnob& k : study.knobs)
     if (!column(k.name)) throw std::runtime_error(file + ": no column '" + k.name + "' (the study's knob)");
-  const std::vector<std::string> figures = studyFigureNames(study.measure);
+  const std::vector<std::string>& figures = study.measure->figures;
   auto number = [&](const std::vector<std::string>& f, std::optional<size_t> c) {
     return c && *c < f.size() && !f[*c].empty() ? std::stod(f[*c]) : 0.0;
   };
@@ -688,7 +384,7 @@ std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options) 
   const auto settings = studySettings(study);
   const auto combos = studyCombinations(settings);
   const std::string sceneName = studyPath(study, study.scene).string();
-  StudyRunner runner(study);
+  const StudyScorer score = study.measure->start(study);
   std::vector<StudyRow> rows;
   for (size_t c = 0; c < combos.size(); ++c) {
     std::vector<const KnobSetting*> chosen;
@@ -703,7 +399,7 @@ std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options) 
       StudyRow again;
       again.knobLabels = row.knobLabels;
       try {
-        runner.run(doc, scene, again);
+        score(doc, scene, again);
         again.ok = true;
       } catch (const sim::SimulationError& e) {
         again.message = std::string("simulation stopped: ") + e.what();
@@ -716,7 +412,7 @@ std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options) 
     if (options.progress)
       std::fprintf(stderr, "study %s: run %zu/%zu (%s): %s\n", study.name.c_str(), c + 1, combos.size(),
                    joinLabels(study, row).c_str(),
-                   row.ok ? ((study.measure == StudyMeasure::None ? std::string() : "error " + shortNumber(row.error) + ", ") +
+                   row.ok ? ((!study.measure->scored() ? std::string() : "error " + shortNumber(row.error) + ", ") +
                              shortNumber(row.totalSeconds) + " s")
                                 .c_str()
                           : row.message.c_str());

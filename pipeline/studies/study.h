@@ -17,33 +17,13 @@
 // SimulationError, ...) is a row with the message, not the end of the study. `repeat` runs each
 // setting several times and keeps the fastest: runs are deterministic, wall times are not.
 //
-// Measures (pipeline/measures.h has the definitions) and the stages they time:
-//   dam_break_front, dam_break_column  mean relative error of the surge front / residual column
-//       height against Martin & Moyce (1952), `reference_data`; the column is fluid_blocks[0]
-//       standing at container.min.x. Times the simulation.
-//   buoyancy  |submerged fraction of bodies[body], averaged from `average_from` to the end every
-//       `sample_interval`, - its specific gravity| (Archimedes). Times the simulation.
-//   membrane_leak  fluid particles below the membrane bodies[body] at the end. Times the simulation.
-//   surface_distance  mean distance (m) of the fluid's level set at `duration` (0: the initial
-//       particle lattice) from the exact metaball surface, along `rays` rays. Times surfacing.
-//   render_rmse  RMSE (sRGB, 0..1) of the frame at `duration` against the same frame rendered
-//       with `reference_samples` samples, depth `reference_max_depth`, another seed and the values
-//       of `reference_set` (e.g. the integrator, so that every run meets one reference). Times
-//       rendering (simulation and surfacing are shared by runs that differ only in render keys).
-//   density_error  the fluid's mean compression over the run (each step's mean over fluid
-//       particles of max(rho - rho0, 0) / rho0, averaged over the steps; the largest step's value
-//       is a figure): what a pressure solver's stiffness or tolerance buys. Times the simulation.
-//   hydrostatic_tank  a still tank filled to fluid_blocks[0]'s top: the worst interior slab's
-//       |p / (rho0 g depth) - 1|, slabs two spacings thick (HydrostaticTrack), averaged over the
-//       samples from `average_from` every `sample_interval`; figures: the free surface's error
-//       against the filled height, the RMS speed at the end, the slabs against the filled height,
-//       the solver's iterations a step, the slabs against the weight of the water above, and the
-//       worst layer one spacing thick. Times the simulation.
-//   none  no error: timing only (what switching an effect off saves). Times the simulation.
+// Measures: pipeline/studies/study_measures.h, one registration each; `kurage study --help`
+// lists them.
 #pragma once
 
 #include "pipeline/param_visitor.h"
 #include "pipeline/scene.h"
+#include "pipeline/studies/study_measures.h"
 
 #include <nlohmann/json.hpp>
 
@@ -53,11 +33,6 @@
 #include <vector>
 
 namespace kurage::pipeline {
-
-enum class StudyMeasure {
-  DamBreakFront, DamBreakColumn, Buoyancy, MembraneLeak, SurfaceDistance, RenderRmse, DensityError, HydrostaticTank, None
-};
-std::string_view studyMeasureName(StudyMeasure measure);
 
 // A knob variant: a label and the scene values it sets, {"json.path": value, ...}.
 struct StudyVariant {
@@ -87,7 +62,7 @@ struct Study {
   std::string scene;  // the base scene, relative to the study file's folder
   nlohmann::json set = nlohmann::json::object();  // applied to the base scene before the knobs
   std::vector<StudyKnob> knobs;  // one or two; runs are every combination
-  StudyMeasure measure = StudyMeasure::None;
+  const StudyMeasure* measure = findStudyMeasure("none");
   float duration = 0.0f;        // simulated seconds
   double errorThreshold = -1.0;  // the accepted error (required unless the measure is none)
   std::string referenceData;     // dam break: the Martin & Moyce CSV, relative to the study file's folder
@@ -137,14 +112,13 @@ struct StudyRow {
   bool ok = false;
   std::string message;  // why the run failed
   double error = 0.0;
-  std::vector<double> figures;     // the measure's own columns (studyFigureNames)
+  std::vector<double> figures;     // the measure's own columns (StudyMeasure::figures)
   std::vector<double> simStages;   // seconds per sim::Stage
   double simSeconds = 0.0, surfaceSeconds = 0.0, renderSeconds = 0.0;
   double totalSeconds = 0.0;  // of the stages the measure times
   uint64_t steps = 0;
   size_t particles = 0;
 };
-std::vector<std::string> studyFigureNames(StudyMeasure measure);
 
 // Runs the study and writes OUT/study.csv, study.png and study.md. Returns the rows.
 std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options);

@@ -3,7 +3,6 @@
 #include "pipeline/studies/study.h"
 
 #include "pipeline/io/files.h"
-#include "pipeline/analysis/dam_break.h"
 
 #include <algorithm>
 #include <string>
@@ -12,21 +11,19 @@ namespace kurage::pipeline {
 
 namespace fs = std::filesystem;
 
-inline const EnumTable<StudyMeasure> kStudyMeasure{{"dam_break_front", StudyMeasure::DamBreakFront},
-                                                   {"dam_break_column", StudyMeasure::DamBreakColumn},
-                                                   {"buoyancy", StudyMeasure::Buoyancy},
-                                                   {"membrane_leak", StudyMeasure::MembraneLeak},
-                                                   {"surface_distance", StudyMeasure::SurfaceDistance},
-                                                   {"render_rmse", StudyMeasure::RenderRmse},
-                                                   {"density_error", StudyMeasure::DensityError},
-                                                   {"hydrostatic_tank", StudyMeasure::HydrostaticTank},
-                                                   {"none", StudyMeasure::None}};
+namespace {
 
-std::string_view studyMeasureName(StudyMeasure measure) {
-  for (const auto& [name, m] : kStudyMeasure)
-    if (m == measure) return name;
-  return "?";
+// The study file's "measure": the names of the registered measures.
+const EnumTable<const StudyMeasure*>& measureNames() {
+  static const EnumTable<const StudyMeasure*> table = [] {
+    EnumTable<const StudyMeasure*> t;
+    for (const StudyMeasure& m : studyMeasures()) t.emplace_back(m.name, &m);
+    return t;
+  }();
+  return table;
 }
+
+}  // namespace
 
 // ---- The study file's registry (strict loading with pipeline/param_visitor.h) ----
 
@@ -60,7 +57,8 @@ void describe(V& v, Study& s) {
   v.value("scene", s.scene, {"", "base scene file, relative to the study file's folder", {}, true});
   v.value("set", s.set, {"", "scene values set in every run before the knobs: {\"json.path\": value, ...}"});
   v.list("knobs", s.knobs, {"", "one or two knobs; the runs are every combination of their values", {}, true});
-  v.enumeration("measure", s.measure, kStudyMeasure, {"", "the error measure (pipeline/studies/study.h)", {}, true});
+  v.enumeration("measure", s.measure, measureNames(),
+                {"", "the error measure (pipeline/studies/study_measures.h; `kurage study --help`)", {}, true});
   v.value("duration", s.duration, {"s", "simulated time of each run", nonNegative(), true});
   v.value("error_threshold", s.errorThreshold, {"", "the accepted error, in the measure's unit", nonNegative()});
   v.value("reference_data", s.referenceData, {"", "dam break: Martin & Moyce CSV, relative to the study file"});
@@ -167,37 +165,6 @@ fs::path studyPath(const Study& study, const std::string& relative) {
   return p.is_absolute() ? p : study.file.parent_path() / p;
 }
 
-namespace {
-
-// What a measure needs of the scene; an empty string when it has it.
-std::string measureProblem(const Study& study, const Scene& scene) {
-  switch (study.measure) {
-    case StudyMeasure::DamBreakFront:
-    case StudyMeasure::DamBreakColumn:
-      if (scene.sim.fluidBlocks.empty()) return "a dam break needs fluid_blocks[0] (the column)";
-      if (scene.sim.gravity.norm() <= 0.0f) return "a dam break needs gravity";
-      break;
-    case StudyMeasure::Buoyancy:
-    case StudyMeasure::MembraneLeak:
-      if (size_t(study.body) >= scene.sim.bodies.size())
-        return "body " + std::to_string(study.body) + " is not in the scene (it has " +
-               std::to_string(scene.sim.bodies.size()) + " bodies)";
-      break;
-    case StudyMeasure::HydrostaticTank:
-      if (scene.sim.fluidBlocks.empty()) return "a still tank needs fluid_blocks[0] (its filled height)";
-      if (scene.sim.gravity.norm() <= 0.0f) return "a still tank needs gravity";
-      break;
-    case StudyMeasure::SurfaceDistance:
-    case StudyMeasure::RenderRmse:
-    case StudyMeasure::DensityError:
-    case StudyMeasure::None:
-      break;
-  }
-  return {};
-}
-
-}  // namespace
-
 std::vector<KnobSetting> knobSettings(const StudyKnob& knob) {
   std::vector<KnobSetting> out;
   for (const nlohmann::json& v : knob.values) out.push_back({labelOf(v), "", {{knob.path, v}}});
@@ -242,19 +209,9 @@ Study parseStudy(const nlohmann::json& document, const fs::path& file) {
         fail(path + ".variants[" + std::to_string(i) + "].set", "must be an object of JSON paths and values");
     if (knob.name.empty()) knob.name = byPath ? knob.path : "variant";
   }
-  if (study.measure != StudyMeasure::None && study.errorThreshold < 0.0)
-    fail("error_threshold", "is required for the measure " + std::string(studyMeasureName(study.measure)));
-  if (study.measure == StudyMeasure::DamBreakFront || study.measure == StudyMeasure::DamBreakColumn) {
-    if (study.referenceData.empty()) fail("reference_data", "is required for a dam break (the Martin & Moyce CSV)");
-    try {
-      loadMartinMoyce(studyPath(study, study.referenceData));
-    } catch (const std::exception& e) {
-      fail("reference_data", e.what());
-    }
-  }
-  if ((study.measure == StudyMeasure::Buoyancy || study.measure == StudyMeasure::HydrostaticTank) &&
-      study.averageFrom > study.duration)
-    fail("average_from", "must not be after the duration");
+  if (study.measure->scored() && study.errorThreshold < 0.0)
+    fail("error_threshold", "is required for the measure " + std::string(study.measure->name));
+  if (const auto problem = study.measure->checkStudy(study)) fail(problem->first, problem->second);
 
   // The base scene, then every knob value alone, then every combination, as scenes.
   const fs::path sceneFile = studyPath(study, study.scene);
@@ -272,7 +229,7 @@ Study parseStudy(const nlohmann::json& document, const fs::path& file) {
     }
     try {
       const Scene scene = parseScene(doc, sceneName);
-      const std::string problem = measureProblem(study, scene);
+      const std::string problem = study.measure->checkScene(study, scene);
       if (!problem.empty()) fail(studyPath, problem);
     } catch (const SceneError& e) {
       if (e.file() == name) throw;
@@ -324,25 +281,5 @@ Study loadStudy(const fs::path& file) {
   }
   return parseStudy(parseStrictJson(text, file.string()), file.string());
 }
-
-std::vector<std::string> studyFigureNames(StudyMeasure measure) {
-  switch (measure) {
-    case StudyMeasure::DamBreakFront:
-    case StudyMeasure::DamBreakColumn:
-      return {"front_error", "column_error", "front_points", "column_points"};
-    case StudyMeasure::Buoyancy: return {"submerged_fraction", "specific_gravity", "samples"};
-    case StudyMeasure::MembraneLeak: return {"leaked", "fluid", "leaked_fraction", "collision_cap_hits"};
-    case StudyMeasure::SurfaceDistance:
-      return {"max_m", "rms_m", "rays", "misses", "active_voxels", "memory_mb"};
-    case StudyMeasure::RenderRmse: return {"total_mrays", "reference_seconds"};
-    case StudyMeasure::DensityError: return {"max_density_error", "steps"};
-    case StudyMeasure::HydrostaticTank:
-      return {"surface_error", "rms_speed", "worst_slab_below_filled", "slabs", "samples", "mean_iterations",
-              "worst_slab_against_weight", "worst_layer"};
-    case StudyMeasure::None: return {};
-  }
-  return {};
-}
-
 
 }  // namespace kurage::pipeline
