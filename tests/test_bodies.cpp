@@ -478,8 +478,6 @@ TEST(Muscles, RightingReflexContractsTheLowerSideOfATiltedRingHarder) {
   const auto [rightLow, rightHigh] = ringForces(20.0f, 1.0f);
   const auto [levelLow, levelHigh] = ringForces(0.0f, 1.0f);
   const auto [levelPlainLow, levelPlainHigh] = ringForces(0.0f, 0.0f);
-  std::printf("tilted 20 deg: lower/upper force %.3f without the reflex, %.3f with gain 1\n", plainLow / plainHigh,
-              rightLow / rightHigh);
   EXPECT_NEAR(plainLow / plainHigh, 1.0, 0.1) << "without the reflex both sides pull alike";
   // Gain 1 scales the lowest spring by 1 + sin 20 deg = 1.34 and the highest by 0.66.
   EXPECT_GT(rightLow / rightHigh, 1.3 * plainLow / plainHigh);
@@ -574,8 +572,6 @@ TEST(Chains, BendingStraightensABentChainAndConservesMomentum) {
   };
   double momentumBent = 0.0, momentumPlain = 0.0;
   const double bent = bendAfter(20000.0f, &momentumBent), plain = bendAfter(0.0f, &momentumPlain);
-  std::printf("smallest angle between end segments over 3 s: %.1f deg with bending, %.1f deg without; "
-              "largest momentum %.3g kg m/s\n", bent, plain, momentumBent);
   EXPECT_LT(bent, 10.0);
   EXPECT_GT(plain, 45.0);
   EXPECT_LT(momentumBent, 1e-2 * 62.5);  // under half a particle's mass (137 kg) times 1 cm/s
@@ -651,9 +647,7 @@ TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
     }
   }
   const double fraction = sum / samples;  // averaged over t = 7 .. 12 s
-  std::printf("%s, specific gravity %.1f: submerged fraction %.3f\n", solver.c_str(), gravity, fraction);
   EXPECT_NEAR(fraction, gravity, 0.1) << "specific gravity " << gravity;
-  RecordProperty("submerged_fraction", std::to_string(fraction));
 }
 
 // DFSPH: with the fluid's Jacobi relaxation the box's particles (half the fluid spacing, 8 times
@@ -690,7 +684,6 @@ TEST(WettedWalls, DfsphBuoyantBoxLeavesTheFloor) {
   const float start = pipeline::kindExtent(sim.particles(), 1).centre.z();
   sim.advanceTo(3.0);
   const pipeline::KindExtent e = pipeline::kindExtent(sim.particles(), 1);
-  std::printf("box centre %.2f m at t = 0, %.2f m at t = 3 s; lowest particle %.2f m\n", start, e.centre.z(), e.min.z());
   EXPECT_GT(e.centre.z(), start + 1.0f) << "rose from the floor";
 }
 
@@ -769,9 +762,6 @@ TEST_P(Membrane, TelescopicDensityHoldsTheFluidTheConventionalModelLeaks) {
   }
   EXPECT_LT(leaked[true], 0.1) << "telescopic density";
   EXPECT_GT(leaked[false], 0.5) << "conventional mass-spring model";
-  std::printf("loaded sheet's pressure (90th percentile): telescopic %.0f Pa, conventional %.0f Pa; the fluid's "
-              "against the telescopic sheet (median) %.0f Pa\n",
-              load[true].sheetPressure90, load[false].sheetPressure90, load[true].fluidPressure50);
   EXPECT_GT(load[true].sheetPressure90, 10.0 * load[false].sheetPressure90) << "the telescopic sheet carries the fluid";
   EXPECT_GT(load[true].fluidParticles, 20u);
   EXPECT_LT(load[true].fluidPressure50, 0.05 * load[true].sheetPressure90) << "the fluid on it has no pressure";
@@ -910,7 +900,6 @@ TEST(BoundaryBodies, PressureReactionsConserveMomentum) {
   ASSERT_GT(fluid.min.minCoeff(), 1.0f) << "clear of the walls";
   ASSERT_LT(fluid.max.maxCoeff(), 11.0f) << "clear of the walls";
   const Eigen::Vector3d end = momentum(-1);
-  std::printf("momentum %.1f -> %.1f kg m/s (body %.1f)\n", start.x(), end.x(), momentum(1).x());
   EXPECT_GT(momentum(1).x(), 0.1 * start.x()) << "the fluid pushed the body";
   EXPECT_LT((end - start).norm(), 1e-3 * start.norm());
 }
@@ -954,8 +943,6 @@ TEST(MembraneUnderDfsph, TelescopicVolumeHoldsTheFluidTheConventionalModelLeaks)
     const pipeline::MembraneLeak leak = pipeline::membraneLeak(sim.particles(), 1, scene.sim.fluid.spacing);
     ASSERT_GT(leak.fluid, 50u);
     leaked[telescopic] = double(leak.leaked) / double(leak.fluid);
-    std::printf("%s: %zu of %zu fluid particles below the membrane at %.0f s; the fastest sheet particle %.1f m/s\n",
-                scene.name.c_str(), leak.leaked, leak.fluid, scene.output.duration, fastest);
     EXPECT_LT(fastest, 10.0f) << "no sheet particle thrown";
   }
   EXPECT_LT(leaked[true], 0.1) << "telescopic density";
@@ -983,18 +970,11 @@ TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
     ASSERT_TRUE((x.array() >= lo.array() - 1e-3f).all() && (x.array() <= hi.array() + 1e-3f).all())
         << "particle " << p.id[i] << " outside the tank";
   }
-  const pipeline::MembraneLeak leak = pipeline::membraneLeak(p, 1, scene.sim.fluid.spacing);
-  std::printf("membrane.json under DFSPH at %.0f s: %zu of %zu fluid particles below the membrane, torn particles "
-              "left out of the solves in %llu steps\n",
-              scene.output.duration, leak.leaked, leak.fluid, (unsigned long long)sim.solver().stats().tornSteps);
   EXPECT_GT(sim.solver().stats().tornSteps, 0u) << "the sheet tears: what the run survives";
   // Why it leaks (docs/PHYSICS.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): the fluid on the sheet
   // is a liquid whose pressure holds its own weight (measured 15 kPa, median, at 16 s; under WCSPH
   // 0), which presses it through the stretched sheet's holes.
   const pipeline::MembraneLoad load = pipeline::membraneLoad(p, 1, scene.sim.fluid.supportRadiusMetres());
-  std::printf("the fluid's pressure against the sheet (median) %.0f Pa over %zu particles; the loaded sheet's "
-              "(90th percentile) %.0f Pa\n",
-              load.fluidPressure50, load.fluidParticles, load.sheetPressure90);
   EXPECT_GT(load.fluidPressure50, 5000.0) << "a pressurised liquid on the sheet";
 }
 

@@ -219,16 +219,6 @@ TEST_P(HydrostaticTank, SettledSurfaceAndInteriorPressure) {
   EXPECT_GT(track.slabs(), 5);
   EXPECT_LT(surfaceError, c.surfaceTolerance);
   EXPECT_LT(worstPressure, c.pressureTolerance);
-  std::printf("%s%s%s, l = %.1f m, %.0f-%.0f s: mean free surface within %.2f %% of 20 m, worst interior slab pressure "
-              "%.2f %% off rho0 g depth (%.2f %% off rho0 g (20 m - z); %.2f %% off the weight of the water above; layers one "
-              "spacing thick %.2f %%), RMS speed at %.0f s %.3f m/s\n",
-              c.solver.c_str(), c.calm ? " (calm)" : "", c.corrected ? " (gradient correction)" : "", double(c.spacing), c.from, c.to,
-              100.0 * surfaceError, 100.0 * worstPressure, 100.0 * track.worstSlabBelowFilled(),
-              100.0 * track.worstSlabAgainstWeight(), 100.0 * track.worstLayer(), c.to, rms);
-  RecordProperty("surface_error", std::to_string(surfaceError));
-  RecordProperty("worst_slab_pressure_error", std::to_string(worstPressure));
-  RecordProperty("worst_slab_against_weight", std::to_string(track.worstSlabAgainstWeight()));
-  RecordProperty("worst_layer", std::to_string(track.worstLayer()));
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, HydrostaticTank,
@@ -261,8 +251,6 @@ TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
       sim.advanceTo(0.1 * k);
       worst = std::max(worst, std::fabs(surface.freeSurface(sim.particles()) - start));
     }
-    std::printf("%s: hydrostatic start, free surface moved at most %.3f m in 1 s (depth %.2f m)\n", solver.c_str(),
-                worst, start);
     EXPECT_LT(worst, 0.01 * start) << solver;  // measured 0.033 m (dfsph), 0.062 m (wcsph)
   }
 }
@@ -282,7 +270,6 @@ TEST(Dfsph, ASliverBeforeTheRequestedTimeDoesNotKickTheFluid) {
     const double at = kurage::pipeline::rmsSpeed(sim.particles(), 0);
     sim.advanceTo(1.1);
     const double after = kurage::pipeline::rmsSpeed(sim.particles(), 0);
-    std::printf("sliver %.0e s: RMS speed %.3f m/s before it, %.3f at 1 s, %.3f at 1.1 s\n", sliver, before, at, after);
     EXPECT_LT(at, 2.0 * before + 0.05) << sliver;
     EXPECT_LT(after, 1.0) << sliver;  // the default tank reads 0.2-0.4 m/s here
   }
@@ -323,11 +310,6 @@ TEST(Dfsph, TheSolvesConserveMomentumWithAndWithoutTheGradientCorrection) {
     Eigen::Vector3d after = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < s.size(); ++i) after += double(s.mass[i]) * Eigen::Vector3d(s.vx[i], s.vy[i], s.vz[i]);
     const SolverStats& stats = sim.solver().stats();
-    std::printf("%s: %llu steps, %.2f density iterations a step; momentum (%.1f %.1f %.1f) -> (%.1f %.1f %.1f) kg m/s, "
-                "sum m|v| %.0f\n",
-                corrected ? "corrected" : "plain", (unsigned long long)stats.steps,
-                double(stats.densityIterations) / double(stats.steps), momentum.x(), momentum.y(), momentum.z(),
-                after.x(), after.y(), after.z(), scale);
     ASSERT_GT(stats.steps, 3u);
     ASSERT_GT(stats.densityIterations, 0u) << "the squeeze must call on the pressure";
     EXPECT_LT((after - momentum).norm(), 1e-6 * scale) << (corrected ? "corrected" : "plain");
@@ -376,10 +358,8 @@ TEST(Dfsph, ConjugateGradientDivergenceSolveNeedsFewerIterations) {
     return double(s.divergenceIterations) / double(s.steps);
   };
   const double jacobi = run(DivergenceSolve::Jacobi), cg = run(DivergenceSolve::ConjugateGradient);
-  std::printf("divergence iterations a step: Jacobi %.2f, conjugate gradients %.2f\n", jacobi, cg);
   EXPECT_LT(cg, 0.75 * jacobi);
   const double jacobiCorrected = run(DivergenceSolve::Jacobi, true), cgCorrected = run(DivergenceSolve::ConjugateGradient, true);
-  std::printf("with the gradient correction: Jacobi %.2f, conjugate gradients %.2f\n", jacobiCorrected, cgCorrected);
   EXPECT_LT(cgCorrected, 0.75 * jacobiCorrected);
 }
 

@@ -14,7 +14,6 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -291,8 +290,6 @@ TEST(TransmissiveShadows, SameMeanAsExactTransportUnderFlatWater) {
       estimate[transmissive] = stats(kr::renderFrame(scene, settings));
     }
     const double standardError = std::sqrt((estimate[0].variance + estimate[1].variance) / 1024.0);
-    std::printf("%.0f degrees: transmissive shadows %.4f, exact transport %.4f (standard error %.4f)\n", degrees,
-                estimate[1].mean, estimate[0].mean, standardError);
     EXPECT_NEAR(estimate[1].mean, estimate[0].mean, 4.0 * standardError) << degrees << " degrees";
     EXPECT_GT(estimate[0].mean, 0.05) << "exact transport found the sun";
   }
@@ -336,7 +333,6 @@ TEST(Whitted, SkyDirectionsDifferFromSampleToSampleOfAPixel) {
     return std::sqrt(sum / width);
   };
   const double one = rmsError(1), sixteen = rmsError(16);
-  std::printf("4 sky directions along the row: RMS error %.4f at 1 sample, %.4f at 16\n", one, sixteen);
   EXPECT_LT(sixteen, 0.02);
   EXPECT_LT(sixteen, one / 3.0);
 }

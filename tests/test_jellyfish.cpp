@@ -113,20 +113,6 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthKeepingItsShapeAndUntangledArms) 
   }
   tr.apexAtPulse.push_back(wall.apexHeight(s.particles()));
   const double perPulse = (tr.apexAtPulse[10] - tr.apexAtPulse[0]) / 10.0 / rest.diameter;
-  std::printf("bell diameter %.2f m, height %.2f m; apex %.2f m at the first pulse, %.2f m after ten: "
-              "%.3f diameters per pulse\n",
-              rest.diameter, rest.height, tr.apexAtPulse[0], tr.apexAtPulse[10], perPulse);
-  for (size_t k = 0; k < tr.widestAfter.size(); ++k)
-    std::printf("pulse %2zu: apex %.2f m, margin reopens to %.2f of rest, height/diameter at its end %.2f of rest\n",
-                k + 1, tr.apexAtPulse[k + 1], tr.widestAfter[k], tr.aspectAtEnd[k]);
-  std::printf("after ten pulses: fell at most %.2f m below its highest apex %.2f m (bell radius %.2f m); bell "
-              "spans %.2f .. %.2f m (water surface %.2f m); most tilt %.1f deg; closest unjoined bell pair "
-              "%.3f m, closest arm self-approach %.3f m (body spacing %.2f m)\n",
-              tr.deepestFallAfterTen, tr.highestApex, 0.5 * rest.diameter, tr.lowestBell, tr.highestBell, surface,
-              tr.mostTilt, tr.closestUnjoined, tr.closestArm, bodySpacing);
-  std::printf("bell rest density %.3f .. %.3f of its initial (telescopic_measure stretch_only); most fluid "
-              "particles inside the wall in one sample: %zu\n",
-              tr.lowestRestDensity, tr.highestRestDensity, tr.mostFluidInWall);
   EXPECT_GE(perPulse, 0.1) << "climbs at least 0.1 bell diameters a pulse over the first ten";
   EXPECT_LT(tr.deepestFallAfterTen, 0.5 * rest.diameter) << "holds its depth after the climb";
   EXPECT_LT(tr.highestBell, surface) << "never breaches the surface";
@@ -165,7 +151,5 @@ TEST(Jellyfish, TheSameBellUnpulsedSinks) {
   const double before = wall.apexHeight(s.particles());
   s.advanceTo(pulse.start + 10.0 * pulse.period);
   const double after = wall.apexHeight(s.particles());
-  std::printf("unpulsed: apex %.2f m at %.1f s, %.2f m at %.1f s\n", before, double(pulse.start), after,
-              double(pulse.start + 10.0f * pulse.period));
   EXPECT_LT(after, before - 0.1);
 }

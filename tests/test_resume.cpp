@@ -200,8 +200,8 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // 20 trials: a fresh run killed at a random moment of its length, then resumed to the end.
   // The length is the reference's, unless a trial ends before its moment: then that trial's
-  // length is used from there on, so the range only shrinks. (The reference may have shared
-  // the machine with another test under ctest -j2; once only 11 of 20 trials were killed.)
+  // length is used from there on, so the range only shrinks (the reference may have shared the
+  // machine with another test). A trial killed early may not have made its folder yet.
   std::mt19937 rng(20261125);
   std::uniform_real_distribution<double> moment(0.02 * seconds, 0.95 * seconds);
   const auto argsFor = [&](const fs::path& folder) {
@@ -209,7 +209,7 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
                                     "--checkpoint-every", "1"};
   };
   const std::map<std::string, std::string> expected = outputsOf(reference);
-  int killed = 0, duringWrites = 0;
+  int killed = 0;
   for (int k = 0; k < 20; ++k) {
     const fs::path trial = dir.path() / ("trial" + std::to_string(k));
     const pid_t pid = test::startKurage(argsFor(trial), log);
@@ -232,10 +232,6 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
       ::kill(pid, SIGKILL);
       if (test::waitFor(pid) == 128 + SIGKILL) ++killed;
     }
-    bool temporaries = false;  // a kill before the run made OUT leaves no folder: nothing to look at
-    if (fs::exists(trial))
-      for (const auto& entry : fs::recursive_directory_iterator(trial)) temporaries |= entry.path().extension() == ".tmp";
-    duringWrites += temporaries;
     ASSERT_EQ(test::waitFor(test::startKurage(argsFor(trial), log)), 0) << readText(log);
     EXPECT_EQ(outputsOf(trial), expected) << (ended ? "ended before its moment, " : "killed at ") << at << " s";
     EXPECT_EQ(nlohmann::json::parse(readText(trial / "run.json"))["status"], "complete");
@@ -243,7 +239,6 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
       EXPECT_NE(entry.path().extension(), ".tmp") << "left behind: " << entry.path();
     if (k < 19) fs::remove_all(trial);
   }
-  std::printf("%d of 20 runs killed, %d of them while a file was being written\n", killed, duringWrites);
   EXPECT_GE(killed, 15);
   const fs::path out = dir.path() / "trial19";
   const std::vector<std::string> args = argsFor(out);

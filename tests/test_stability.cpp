@@ -14,10 +14,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
-#include <cstdio>
 #include <map>
 #include <string>
 
@@ -80,20 +78,6 @@ Eigen::Vector3f positionOf(const ParticleSet& p, int64_t id) {
   return Eigen::Vector3f::Zero();
 }
 
-// Wall time of a case, printed and recorded in the test's XML output (ctest --output-junit).
-class Budget {
-public:
-  Budget() : start_(std::chrono::steady_clock::now()) {}
-  ~Budget() {
-    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    ::testing::Test::RecordProperty("wall_seconds", std::to_string(s));
-    std::printf("  wall time %.2f s\n", s);
-  }
-
-private:
-  std::chrono::steady_clock::time_point start_;
-};
-
 BodyParams pinnedMembrane(const Eigen::Vector3f& min, const Eigen::Vector3f& max) {
   BodyParams b;
   b.name = "membrane";
@@ -137,15 +121,11 @@ uint64_t boundCount(const Simulation& sim, StepBound b) { return sim.stats().bou
 // bound (about 0.012 s) is below every fluid bound, so it must be the active bound of (nearly)
 // every step, and the run must stay finite with no energy gained.
 TEST(StiffSprings, MembraneAtHundredTimesThePapersStiffness) {
-  Budget budget;
   Simulation sim(columnOntoAStiffMembrane());
   ASSERT_EQ(sim.stabilityLimit().bound, StepBound::Spring);
   const size_t count = sim.particles().size();
   ASSERT_NO_FATAL_FAILURE(runWithoutEnergyGain(sim, 20, 0.1));
   EXPECT_EQ(sim.particles().size(), count);
-  const pipeline::MembraneLeak leak = pipeline::membraneLeak(sim.particles(), 1, sim.params().fluid.spacing);
-  std::printf("  %zu of %zu fluid particles through the sheet at 2 s\n", leak.leaked, leak.fluid);
-  RecordProperty("fluid_through_sheet", std::to_string(leak.leaked) + " of " + std::to_string(leak.fluid));
   EXPECT_GE(double(boundCount(sim, StepBound::Spring)), 0.9 * double(sim.stats().steps))
       << "the spring bound sets (nearly) every step";
   EXPECT_LE(sim.stats().maxStep, sim.stabilityLimit().step * (1.0f + 1e-6f));
@@ -154,7 +134,6 @@ TEST(StiffSprings, MembraneAtHundredTimesThePapersStiffness) {
 // scenes/box.json's body (k = 10000 N/m, 1000 times the paper's box) at 100 times that stiffness,
 // dropped into a water-like tank: a spring bound of 0.8 ms against the fluid's 13 ms.
 TEST(StiffSprings, BoxAtHundredTimesTheBoxScenesStiffness) {
-  Budget budget;
   SimParams p;
   p.fluid.pressureStiffness = 2000.0f;
   p.container.max = Eigen::Vector3f(8, 8, 8);
@@ -223,7 +202,6 @@ std::string runFixed(SimParams p, float ratio, double duration) {
 // Simulation::advanceTo stops a fixed step above a stability limit of the current state (the
 // bound without its safety factor: 2 times the spring bound, 2.5 times the CFL bound), naming it.
 TEST(TooLargeFixedStep, StopsWithTheViolatedLimitNamed) {
-  Budget budget;
   for (const float ratio : {3.0f, 5.0f, 10.0f}) {
     const std::string spring = runFixed(stiffBoxOnTheFloor(), ratio, 1.0);
     EXPECT_NE(spring.find("time 0 s: the fixed step"), std::string::npos) << "ratio " << ratio << ": " << spring;
@@ -232,7 +210,6 @@ TEST(TooLargeFixedStep, StopsWithTheViolatedLimitNamed) {
     const std::string cfl = runFixed(waterLikeDamBreak(), ratio, 2.0);
     EXPECT_NE(cfl.find("cfl stability limit"), std::string::npos) << "ratio " << ratio << ": " << cfl;
   }
-  std::printf("  e.g. %s\n", runFixed(waterLikeDamBreak(), 5.0f, 2.0).c_str());
   // A viscosity-dominated fluid (nu = 30 m^2/s): its viscous bound 0.125 h^2 / nu is the limit
   // itself (1.5 times it gains energy).
   SimParams viscous = waterLikeDamBreak();
@@ -245,9 +222,7 @@ TEST(TooLargeFixedStep, StopsWithTheViolatedLimitNamed) {
 // At 2.4 times the CFL bound of the fluid at rest (a Courant number of 0.96) the dam break starts;
 // once the flow's speed has pushed the Courant number h / (c + |v|max) past 1 the run stops.
 TEST(TooLargeFixedStep, StopsMidRunOnceTheFlowOutgrowsTheStep) {
-  Budget budget;
   const std::string message = runFixed(waterLikeDamBreak(), 2.4f, 2.0);
-  std::printf("  %s\n", message.c_str());
   EXPECT_NE(message.find("cfl stability limit"), std::string::npos) << message;
   EXPECT_EQ(message.find("time 0 s"), std::string::npos) << "not at the start: " << message;
 }
@@ -255,14 +230,12 @@ TEST(TooLargeFixedStep, StopsMidRunOnceTheFlowOutgrowsTheStep) {
 // The same scenes at 1.5 times their bound: below the limits, they run to the end with their
 // energy bounded.
 TEST(TooLargeFixedStep, ModestlyAboveTheBoundRunsOn) {
-  Budget budget;
   EXPECT_EQ(runFixed(stiffBoxOnTheFloor(), 1.5f, 1.0), "");
   EXPECT_EQ(runFixed(waterLikeDamBreak(), 1.5f, 2.0), "");
 }
 
 // Under the adaptive step the same scenes subdivide: every step within the bound, energy bounded.
 TEST(TooLargeFixedStep, AdaptiveStepSubdividesInstead) {
-  Budget budget;
   for (SimParams p : {stiffBoxOnTheFloor(), waterLikeDamBreak()}) {
     p.timeStep.maxStep = 0.1f;  // the frames below are 0.1 s apart: the bound must split them
     Simulation sim(p);
@@ -294,7 +267,6 @@ SimParams jetIntoAWall(const FluidParams& fluid) {
 // 20 m/s into the end wall of a 12 m channel, the water-like fluid of scenes/membrane.json
 // (c = 77 m/s): the front stops in one step at the wall.
 TEST(Jet, TwentyMetresPerSecondIntoAWall) {
-  Budget budget;
   Simulation sim(jetIntoAWall(membraneFluid()));
   for (int f = 1; f <= 25; ++f) {
     sim.advanceTo(0.1 * f);
@@ -310,7 +282,6 @@ TEST(Jet, TwentyMetresPerSecondIntoAWall) {
 // The membrane is hit far harder than in the paper's scene (1 m/s): it must stay finite, spring
 // back, and keep most of the fluid above it.
 TEST(Jet, TwentyMetresPerSecondIntoAPinnedMembrane) {
-  Budget budget;
   SimParams p;
   p.fluid = membraneFluid();
   p.container.max = Eigen::Vector3f(6, 6, 12);
@@ -335,9 +306,6 @@ TEST(Jet, TwentyMetresPerSecondIntoAPinnedMembrane) {
   size_t through = 0;
   for (size_t i = 0; i < s.size(); ++i) through += s.kind[i] == 0 && s.z[i] < lowest - 0.5f;
   const double fraction = double(through) / double(countKind(s, 0));
-  std::printf("  %zu of %zu fluid particles below the membrane, its lowest particle at z = %.2f\n", through,
-              countKind(s, 0), lowest);
-  RecordProperty("tunnelled_fraction", std::to_string(fraction));
   EXPECT_GT(lowest, 4.0f) << "sprung back (it started at z = 5.5 .. 6.5)";
   EXPECT_LT(fraction, 0.15);
 }
@@ -445,11 +413,8 @@ MuscleRun runMuscle(const SimParams& p, bool stretch, double release, double end
 // itself: a mass-spring chain has no resistance to inversion (a spring only sees its length), so
 // only energy is asserted after the release.
 TEST(Muscle, StretchesAChainToFiveTimesItsLength) {
-  Budget budget;
   const MuscleRun run = runMuscle(musclesChain({{0.0f, 0.0f}, {1.0f, -200.0f}, {2.5f, -200.0f}, {5.5f, 0.0f}}),
                                   true, 5.5, 10.0);
-  std::printf("  largest length ratio %.2f, at the end %.2f\n", run.extreme, run.final);
-  RecordProperty("largest_length_ratio", std::to_string(run.extreme));
   EXPECT_GE(run.extreme, 5.0);
 }
 
@@ -457,11 +422,8 @@ TEST(Muscle, StretchesAChainToFiveTimesItsLength) {
 // length), then let go over 0.5 s: the telescopic rest density rises to (L^leng)^3, up to about
 // 150 times the body's, and the chain springs back to its length.
 TEST(Muscle, CompressesAChainToAThirdOfItsLength) {
-  Budget budget;
   const MuscleRun run = runMuscle(musclesChain({{0.0f, 0.0f}, {1.0f, 45.0f}, {4.0f, 45.0f}, {4.5f, 0.0f}}),
                                   false, 4.5, 10.0);
-  std::printf("  smallest length ratio %.3f, at the end %.2f\n", run.extreme, run.final);
-  RecordProperty("smallest_length_ratio", std::to_string(run.extreme));
   EXPECT_LE(run.extreme, 1.0 / 3.0);
   EXPECT_GT(run.final, 0.8) << "back near its length";
 }
@@ -470,7 +432,6 @@ TEST(Muscle, CompressesAChainToAThirdOfItsLength) {
 // (kMaxLengthRatio = 10: a spring shorter than a tenth of its rest length counts as a tenth):
 // rest densities stay finite and at most 1000 times the body's.
 TEST(Muscle, CollapseBeyondTheLengthRatioFloorStaysFinite) {
-  Budget budget;
   Simulation sim(musclesChain({{0.0f, 0.0f}, {0.2f, 1.0e4f}}));
   const double rest = chainLength(sim);
   double smallest = 1.0;
@@ -481,7 +442,6 @@ TEST(Muscle, CollapseBeyondTheLengthRatioFloorStaysFinite) {
     smallest = std::min(smallest, chainLength(sim) / rest);
     for (size_t i = 0; i < sim.particles().size(); ++i) densest = std::max(densest, sim.particles().restDensity[i]);
   }
-  std::printf("  smallest length ratio %.3f, largest rest density %.0f kg/m^3\n", smallest, densest);
   EXPECT_EQ(sim.particles().size(), 9u);
   EXPECT_LT(smallest, 1.0 / kMaxLengthRatio) << "the case must reach the floor";
   EXPECT_LE(densest, std::pow(kMaxLengthRatio, 3.0f) * sim.params().bodies[0].restDensity() * 1.0001f);
@@ -526,7 +486,6 @@ class OnWalls : public ::testing::TestWithParam<WallDensity> {};
 // weights a centre at distance 0, where the wall counts the most density), the neighbour grid a
 // particle on the boundary of its last cell. Nothing may escape, and no energy appear.
 TEST_P(OnWalls, ParticlesOnAWallAndInCornersStayInsideWithoutGainingEnergy) {
-  Budget budget;
   Simulation sim(smallTank(GetParam()));
   ParticleSet& s = sim.particles();
   const size_t count = s.size();
@@ -557,7 +516,6 @@ class Coincident : public ::testing::TestWithParam<WallDensity> {};
 // spiky pressure gradient is largest there, so the pair is pushed hard while hardly losing
 // density (about 2 and 3 times this tank's energy within 0.03 s). Bounded, and dissipated after.
 TEST_P(Coincident, TwoParticlesAtOnePlaceSeparate) {
-  Budget budget;
   Simulation sim(smallTank(GetParam()));
   ParticleSet& s = sim.particles();
   const size_t count = s.size();
@@ -577,7 +535,6 @@ TEST_P(Coincident, TwoParticlesAtOnePlaceSeparate) {
   }
   const float apart = (positionOf(sim.particles(), a) - positionOf(sim.particles(), b)).norm();
   const double end = mechanicalEnergy(sim);
-  std::printf("  pair %.2f m apart after 4 s; energy peak %.2f, end %.2f of the start\n", apart, peak / e0, end / e0);
   EXPECT_EQ(sim.particles().size(), count);
   EXPECT_GT(apart, 0.5f * sim.params().fluid.spacing) << "kept apart by the pressure";
   EXPECT_LT(peak, 4.0 * e0) << "the kick is bounded";
@@ -589,7 +546,6 @@ INSTANTIATE_TEST_SUITE_P(Walls, Coincident, ::testing::Values(WallDensity::None,
 // Two body particles at the same place (two one-particle bodies): the collision loop has no
 // direction between them and must still push them apart to their contact distance.
 TEST(Coincident, TwoBodyParticlesAtOnePlaceSeparate) {
-  Budget budget;
   SimParams p;
   p.gravity = Eigen::Vector3f::Zero();
   p.container.max = Eigen::Vector3f(6, 6, 6);
@@ -612,7 +568,6 @@ TEST(Coincident, TwoBodyParticlesAtOnePlaceSeparate) {
 // own error naming the time; its position once gave the collision grid a cell range whose size
 // overflowed, and the run died with "cannot create std::vector larger than max_size()".
 TEST(NonFinite, ABodyParticleStopsTheRunWithASimulationError) {
-  Budget budget;
   SimParams p;
   p.container.max = Eigen::Vector3f(6, 6, 6);
   // Two one-particle bodies in one row of collision cells.
@@ -636,7 +591,6 @@ TEST(NonFinite, ABodyParticleStopsTheRunWithASimulationError) {
 // ---- Degenerate scenes ----
 
 TEST(Degenerate, EmptySceneAdvances) {
-  Budget budget;
   for (const TimeStepMode mode : {TimeStepMode::Adaptive, TimeStepMode::Fixed}) {
     SimParams p;
     p.timeStep.mode = mode;
@@ -654,7 +608,6 @@ TEST(Degenerate, EmptySceneAdvances) {
 // One fluid particle dropped 3 m: it falls freely (no neighbour, density below rest, no
 // pressure), lands on the floor and stays there at rest.
 TEST(Degenerate, SingleParticleFallsAndRests) {
-  Budget budget;
   SimParams p;
   p.container.max = Eigen::Vector3f(4, 4, 4);
   p.fluidBlocks.push_back({Eigen::Vector3f(1.5f, 1.5f, 2.5f), Eigen::Vector3f(2.5f, 2.5f, 3.5f)});
@@ -672,7 +625,6 @@ TEST(Degenerate, SingleParticleFallsAndRests) {
 
 // A box body in an empty tank: falls, lands, settles; no fluid stage is needed for it to work.
 TEST(Degenerate, BodyWithoutFluidLandsAndSettles) {
-  Budget budget;
   SimParams p;
   p.container.max = Eigen::Vector3f(6, 6, 6);
   BodyParams box = boxBody({2, 2, 3}, {4, 4, 5});
@@ -699,7 +651,6 @@ TEST(Degenerate, BodyWithoutFluidLandsAndSettles) {
 
 // A small water-like dam break with no body: no body data, no body stage, energy bounded.
 TEST(Degenerate, FluidWithoutBody) {
-  Budget budget;
   SimParams p = waterLikeDamBreak();
   Simulation sim(p);
   const size_t count = sim.particles().size();
@@ -713,7 +664,6 @@ TEST(Degenerate, FluidWithoutBody) {
 // The whole pipeline (simulation, caches, surfaces, frames) on a scene with no particle at all
 // and on a scene with one.
 TEST(Degenerate, CliRunsAnEmptySceneAndASingleParticle) {
-  Budget budget;
   for (const bool single : {false, true}) {
     test::TempDir dir;
     nlohmann::json scene = nlohmann::json::parse(pipeline::readText(test::sourceDir() / "tests/scenes/tiny_dam_break.json"));
@@ -768,7 +718,6 @@ Window sampleTank(Simulation& sim, int from, int to) {
 // motion gone. With the water-like k_press of scenes/dam_break.json it stays a liquid: density
 // error a few percent and falling, kinetic energy decaying by orders of magnitude.
 TEST(LongSettledTank, SixtySecondsStayBoundedAndComeToRest) {
-  Budget budget;
   for (const float stiffness : {2.2f, 2000.0f}) {
     SimParams p;
     p.fluid.pressureStiffness = stiffness;
@@ -780,10 +729,6 @@ TEST(LongSettledTank, SixtySecondsStayBoundedAndComeToRest) {
     const Window early = sampleTank(sim, 1, 10);
     sampleTank(sim, 11, 49);
     const Window late = sampleTank(sim, 50, 60);
-    std::printf("  k_press %g: kinetic energy %.3g J early, %.3g J late; density error %.4f early, %.4f late; "
-                "densest %.3f early, %.3f late; %llu steps\n",
-                stiffness, early.kinetic, late.kinetic, early.densityError, late.densityError, early.densest,
-                late.densest, (unsigned long long)sim.stats().steps);
     EXPECT_EQ(sim.particles().size(), count);
     EXPECT_LE(mechanicalEnergy(sim), e0);
     EXPECT_LE(late.densest, early.densest * 1.01) << "k_press " << stiffness << ": density creeping up";
@@ -811,7 +756,6 @@ FluidParams dfsphFluid() {
 
 // The 20 m/s jet into a wall under DFSPH: finite, inside, and no energy beyond what the nozzle put in.
 TEST(DfsphHardCases, TwentyMetresPerSecondIntoAWall) {
-  Budget budget;
   SimParams p = jetIntoAWall(dfsphFluid());
   p.container.wallDensity = WallDensity::BoundaryParticles;
   Simulation sim(p);
@@ -825,7 +769,6 @@ TEST(DfsphHardCases, TwentyMetresPerSecondIntoAWall) {
 
 // Steps at the CFL limit itself (cfl = 1: dt = l / |v|max): a dam break stays finite and inside.
 TEST(DfsphHardCases, CflOneSteps) {
-  Budget budget;
   SimParams p;
   p.fluid = dfsphFluid();
   p.timeStep.cflFactor = 1.0f;
@@ -840,7 +783,6 @@ TEST(DfsphHardCases, CflOneSteps) {
 // counted (run.json reports the count, with a warning), and the dam break stays finite, inside and
 // without energy gained.
 TEST(DfsphHardCases, UnreachableToleranceHitsTheCapAndRunsOn) {
-  Budget budget;
   SimParams p;
   p.fluid = dfsphFluid();
   p.fluid.maxDensityError = 1e-6f;
@@ -851,9 +793,6 @@ TEST(DfsphHardCases, UnreachableToleranceHitsTheCapAndRunsOn) {
   Simulation sim(p);
   ASSERT_NO_FATAL_FAILURE(runWithoutEnergyGain(sim, 20, 0.1));
   const SolverStats& s = sim.solver().stats();
-  std::printf("unreachable tolerance: %llu of %llu density solves at the cap of 3\n",
-              (unsigned long long)s.densityCapHits, (unsigned long long)s.steps);
-  RecordProperty("density_cap_hits", std::to_string(s.densityCapHits) + " of " + std::to_string(s.steps));
   EXPECT_GE(s.densityCapHits + 1, s.steps) << "every step at the cap (but the first, from rest)";
   EXPECT_EQ(s.maxDensityIterations, 3);
 }
@@ -877,7 +816,6 @@ std::pair<std::string, nlohmann::json> simThroughCli(const test::TempDir& dir, c
 // The same, as a user meets it: `kurage sim` finishes (exit 0), warns on stderr naming the
 // settings, and run.json counts the capped solves.
 TEST(DfsphHardCases, CliReportsTheCapHitsInRunJsonAndWarns) {
-  Budget budget;
   test::TempDir dir;
   nlohmann::json scene = nlohmann::json::parse(pipeline::readText(test::sourceDir() / "tests/scenes/tiny_dam_break.json"));
   scene["fluid"]["solver"] = "dfsph";
@@ -902,7 +840,6 @@ TEST(DfsphHardCases, CliReportsTheCapHitsInRunJsonAndWarns) {
 // the 32 fluid particles through its three half-spacing layers by then; the WCSPH case above, with
 // the paper's fluid, lets all 32 through by 2 s. The leak test is membrane.json's, Membrane.*.)
 TEST(DfsphHardCases, ColumnDroppedOntoAPinnedMembrane) {
-  Budget budget;
   SimParams p = columnOntoAStiffMembrane();
   p.fluid = dfsphFluid();
   p.container.wallDensity = WallDensity::BoundaryParticles;
@@ -913,11 +850,6 @@ TEST(DfsphHardCases, ColumnDroppedOntoAPinnedMembrane) {
   EXPECT_EQ(sim.solver().stats().densityCapHits, 0u);
   EXPECT_EQ(sim.solver().stats().divergenceCapHits, 0u);
   const float lowest = pipeline::kindExtent(sim.particles(), 1).min.z();
-  const pipeline::MembraneLeak leak = pipeline::membraneLeak(sim.particles(), 1, p.fluid.spacing);
-  std::printf("column onto a membrane under DFSPH: sheet's lowest point %.2f m, %zu of %zu fluid particles through it\n",
-              lowest, leak.leaked, leak.fluid);
-  RecordProperty("sheet_lowest_m", std::to_string(lowest));
-  RecordProperty("fluid_through_sheet", std::to_string(leak.leaked) + " of " + std::to_string(leak.fluid));
   EXPECT_GT(lowest, 2.0f) << "the sheet stays up";
   // The held rim is no unknown of the solves (sim/solvers/dfsph.h): it carries no pressure.
   std::vector<uint8_t> state;
@@ -933,7 +865,6 @@ TEST(DfsphHardCases, ColumnDroppedOntoAPinnedMembrane) {
 // membrane.json under DFSPH tears (Bodies under DFSPH, docs/PHYSICS.md): `kurage sim` finishes,
 // warns that torn particles were left out of the solves, and run.json counts the steps.
 TEST(DfsphHardCases, CliReportsTornBodyParticlesAndWarns) {
-  Budget budget;
   test::TempDir dir;
   nlohmann::json scene = nlohmann::json::parse(pipeline::readText(test::sourceDir() / "scenes/membrane.json"));
   scene.erase("$schema");
@@ -947,6 +878,4 @@ TEST(DfsphHardCases, CliReportsTornBodyParticlesAndWarns) {
   const nlohmann::json& torn = run["stages"]["sim"]["solver"]["torn_body_particles"];
   EXPECT_GT(torn["steps"].get<int>(), 0);
   EXPECT_GT(torn["max_at_once"].get<int>(), 0);
-  std::printf("membrane.json under DFSPH: torn particles left out in %d of %d steps, up to %d at once\n",
-              torn["steps"].get<int>(), run["stages"]["sim"]["steps"].get<int>(), torn["max_at_once"].get<int>());
 }

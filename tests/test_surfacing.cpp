@@ -190,7 +190,6 @@ TEST_P(SingleBlob, EveryBandVoxelIsCloseToTheDistanceToTheSphere) {
         EXPECT_NEAR(sdf, exact, 0.25 * h) << "voxel " << i << " " << j << " " << k;
       }
   EXPECT_GT(band, 500u);
-  RecordProperty("worst_error_in_voxels", std::to_string(worst / h));
 }
 
 INSTANTIATE_TEST_SUITE_P(Metaball, SingleBlob, ::testing::Values(kParamsA, kParamsB),
@@ -608,8 +607,6 @@ TEST(ThinBodies, RestBellHasAnOpenCavityAndAWallOfTheBuiltThickness) {
     EXPECT_NEAR(a, builtInner, 2.0 * h) << degrees << " degrees";
     EXPECT_NEAR(b - a, built, 0.3 * built) << degrees << " degrees";
   }
-  RecordProperty("apex_wall_thickness_m", std::to_string(out - in));
-  RecordProperty("cavity_roof_m", std::to_string(entry));
 }
 
 TEST(ThinBodies, IsotropicBlobsMakeTheBellWallTooThick) {
@@ -621,7 +618,6 @@ TEST(ThinBodies, IsotropicBlobsMakeTheBellWallTooThick) {
   const auto [in, out] = wallCrossings(buildMetaballLevelSet(bell.points, params), bell, 0.0);
   const double built = bell.outer - bell.inner + bell.spacing;
   EXPECT_GT(out - in, 1.3 * built);
-  RecordProperty("isotropic_apex_wall_thickness_m", std::to_string(out - in));
 }
 
 // Still water: a lattice of fluid particles (spacing 1 m, first half a spacing in) filling a box
@@ -676,8 +672,6 @@ TEST(ThinBodies, StillWaterSurfaceIsFlatToAQuarterSpacing) {
     if (jitter == 0.2f) {
       EXPECT_GT(isotropic, 0.25 * spacing);  // the test can tell lumps
     }
-    std::printf("jitter %.1f spacings: surface height range %.3f m anisotropic, %.3f m isotropic; level %.2f m\n",
-                double(jitter), anisotropic, isotropic, top);
   }
 }
 
