@@ -1,11 +1,11 @@
-// From a scene's "render" section to the renderer's own description (render/tracer.h): camera at
+// From a scene's "render" section to the renderer's own description (render/scene.h): camera at
 // a time (keyframes), sun, area lights, environment (the image decoded here), ground, tank walls,
 // clip plane, chains as tubes, and particles as coloured spheres for explanatory stills.
 #pragma once
 
 #include "pipeline/io/particle_cache.h"
 #include "pipeline/scene.h"
-#include "render/tracer.h"
+#include "render/renderer.h"
 
 #include <map>
 #include <string>

@@ -2,7 +2,7 @@
 
 #include "pipeline/io/files.h"
 #include "render/surfacing.h"
-#include "render/tracer.h"
+#include "render/embree_scene.h"
 #include "sim/simulation.h"
 
 #include <Eigen/Core>

@@ -206,7 +206,7 @@ void validate(const Scene& scene, const std::string& file) {
   if (render.bitDepth != 8 && render.bitDepth != 16) fail("render.bit_depth", "must be 8 or 16");
   if (!render.outputs.png && !render.outputs.exr)
     fail("render.outputs", "writes no frame: set png or exr (or both) to true");
-  if (render.settings.denoise.enabled && render.settings.integrator == render::Integrator::Whitted)
+  if (render.settings.denoise.enabled && render.settings.integrator == render::IntegratorType::Whitted)
     fail("render.denoise.enabled", "the whitted integrator makes no noise and gathers no albedo and normal buffers "
                                    "for the denoiser; use the path integrator");
   const render::AdaptiveSettings& adaptive = render.settings.adaptive;

@@ -6,7 +6,7 @@
 
 #include "pipeline/param_visitor.h"
 #include "render/surfacing.h"
-#include "render/tracer.h"
+#include "render/renderer.h"
 #include "sim/params.h"
 
 #include <nlohmann/json.hpp>

@@ -483,8 +483,8 @@ void describe(V& v, ChainRadiusParams& p) {
   v.value("tip", p.tip, {"m", "tube radius at its last particle; linear in between", positive()});
 }
 
-inline const EnumTable<render::Integrator> kIntegrator{{"path", render::Integrator::Path},
-                                                       {"whitted", render::Integrator::Whitted}};
+inline const EnumTable<render::IntegratorType> kIntegrator{{"path", render::IntegratorType::Path},
+                                                       {"whitted", render::IntegratorType::Whitted}};
 
 template <class V>
 void describe(V& v, render::WhittedSettings& p) {

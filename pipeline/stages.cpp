@@ -14,7 +14,7 @@
 #include "pipeline/progress.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/sim_frame.h"
-#include "render/tracer.h"
+#include "render/renderer.h"
 #include "sim/simulation.h"
 
 #include <Eigen/Core>

@@ -10,7 +10,7 @@
 // 2017). The colour distance is relative to the two pixels' brightness, and its width halves at
 // every pass by sqrt(2) (the noise the earlier passes removed; Dammertz et al. halve it).
 //
-// Features, per pixel, averaged over its samples (the tracer fills them, tracer.cpp): the albedo
+// Features, per pixel, averaged over its samples (the render loop fills them, render_loop.h): the albedo
 // at the first non-specular vertex of the camera's path times the specular chain's throughput
 // before it (so water and mirrors tint it), and that vertex's shading normal (0 where the path
 // escaped to the sky or ended on a light; the albedo there is the chain's throughput).

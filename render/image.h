@@ -24,6 +24,7 @@ public:
   int height() const { return height_; }
   Eigen::Vector4f& at(int x, int y) { return pixels_[static_cast<size_t>(y) * width_ + x]; }
   const Eigen::Vector4f& at(int x, int y) const { return pixels_[static_cast<size_t>(y) * width_ + x]; }
+  bool operator==(const Image&) const = default;  // same size and pixels (NaN never equal)
 
 private:
   int width_ = 0;

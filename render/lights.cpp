@@ -1,5 +1,5 @@
-// The environment lookup; see lights.h. Sun and area light sampling live in the integrator
-// (tracer.cpp), which needs the scene for shadow rays.
+// The environment lookup; see lights.h. Sun and area light sampling live in the integrators
+// (integrators/), which need the scene for shadow rays.
 #include "render/lights.h"
 
 #include "render/sampling.h"

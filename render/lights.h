@@ -3,7 +3,7 @@
 // the scene. Radiometric quantities are linear RGB; radiance is W/(m^2 sr) in arbitrary units,
 // irradiance W/m^2 in the same units.
 //
-// The sun and the area lights are sampled by next-event estimation (tracer.cpp); the
+// The sun and the area lights are sampled by next-event estimation (integrators/); the
 // environment too, by its luminance (EnvironmentSampler), unless RenderSettings turns that off.
 #pragma once
 
@@ -66,9 +66,10 @@ Eigen::Vector3f environmentRadiance(const Environment& environment, const Eigen:
 // With `below` (a unit ground normal), cells that lie wholly below that plane's horizon get
 // weight 0: the infinite ground hides them from every point above it. Directions of weight 0
 // are left to BSDF sampling, which the MIS weight (power heuristic) then counts in full, so the
-// estimate stays unbiased. Sampling allocates nothing; build once per frame (one radiance
-// lookup and 12 bytes per cell: a 2048 x 1024 sky image costs about 25 MB and a fraction of a
-// second per frame; no sky image is shipped yet, so no downsampling is done).
+// estimate stays unbiased. Sampling allocates nothing. Building costs one radiance lookup and
+// 12 bytes per cell (a 2048 x 1024 sky image: about 25 MB); a Renderer builds it once and keeps
+// it while the environment and the ground's normal stay the same (renderer.h). Limit: an image
+// sky is not downsampled, so its cells are its pixels however large it is.
 class EnvironmentSampler {
 public:
   EnvironmentSampler() = default;  // samples nothing (pdf 0 everywhere)

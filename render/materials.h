@@ -1,4 +1,4 @@
-// Surface materials and their scattering: what the path tracer (tracer.cpp) asks of a surface.
+// Surface materials and their scattering: what the integrators (integrators/) ask of a surface.
 //
 //   diffuse      Lambert reflection, f = albedo / pi.
 //   dielectric   a smooth interface between air (IOR 1) and a medium of index `ior`: exact
@@ -34,6 +34,7 @@ struct Material {
   // albedo and albedoB (by the parity of floor(x/s) + floor(y/s) + floor(z/s)); 0 = plain.
   float checkerSize = 0.0f;
   Eigen::Vector3f albedoB{0.4f, 0.4f, 0.4f};
+  bool operator==(const Material&) const = default;
 };
 
 // The albedo at world point p: `albedo` or, with a checker, albedo/albedoB by cell parity.

@@ -13,6 +13,7 @@ struct TriangleMesh {
   std::vector<Eigen::Vector3f> positions;
   std::vector<Eigen::Vector3f> normals;  // empty or one per position
   std::vector<Eigen::Vector3i> triangles;  // counter-clockwise seen from outside
+  bool operator==(const TriangleMesh&) const = default;
 };
 
 }  // namespace kurage::render

@@ -3,7 +3,7 @@
 // origin lit only by this sky reflects exactly its albedo (test_render_validation.cpp).
 #pragma once
 
-#include "render/tracer.h"
+#include "render/renderer.h"
 
 namespace kurage::test {
 

@@ -6,7 +6,7 @@
 // where there is), and the denoiser (a noise-free checkerboard unchanged, a noisy plain ground's
 // error cut threefold).
 #include "furnace_scene.h"
-#include "render/tracer.h"
+#include "render/renderer.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -168,7 +168,7 @@ TEST(Whitted, DiffuseGroundUnderSunIsAlbedoTimesIrradianceCosOverPi) {
   scene.camera.lookAt = {0, 0, 0};
   scene.camera.up = {0, 1, 0};
   kr::RenderSettings settings;
-  settings.integrator = kr::Integrator::Whitted;
+  settings.integrator = kr::IntegratorType::Whitted;
   settings.width = 16;
   settings.height = 16;
   settings.samplesPerPixel = 4;
@@ -210,7 +210,7 @@ TEST(Whitted, GlassSlabTransmitsFresnelSeriesWithAbsorption) {
     scene.camera.up = {0, 0, 1};
     scene.camera.verticalFovDegrees = 2.0f;
     kr::RenderSettings settings;
-    settings.integrator = kr::Integrator::Whitted;
+    settings.integrator = kr::IntegratorType::Whitted;
     settings.width = 5;
     settings.height = 5;
     settings.samplesPerPixel = 1;
@@ -241,7 +241,7 @@ TEST(Whitted, SunLightsTheFloorUnderFlatWaterThroughSnellsWindow) {
     const kr::TriangleMesh water = box({0, 0, 0}, {50, 50, 1}, Eigen::Matrix3f::Identity());  // z in [-1, 1]
     kr::RenderScene scene = groundUnderWater(water, degrees, 1.0f);
     kr::RenderSettings settings;
-    settings.integrator = kr::Integrator::Whitted;
+    settings.integrator = kr::IntegratorType::Whitted;
     settings.width = 3;
     settings.height = 3;
     settings.samplesPerPixel = 1;
@@ -318,7 +318,7 @@ TEST(Whitted, SkyDirectionsDifferFromSampleToSampleOfAPixel) {
   const int width = 64;
   scene.camera.verticalFovDegrees = 2.0f * std::atan(1.0f / (20.0f * width)) * 180.0f / kPi;  // the row spans 2 m
   kr::RenderSettings settings;
-  settings.integrator = kr::Integrator::Whitted;
+  settings.integrator = kr::IntegratorType::Whitted;
   settings.whitted.skyDirections = 4;
   settings.width = width;
   settings.height = 1;
@@ -351,7 +351,7 @@ TEST(Whitted, ImageDependsOnNeitherSeedNorThreadCount) {
   scene.camera.position = {1, -6, 3};
   scene.camera.lookAt = {0, 0, 0.5f};
   kr::RenderSettings settings;
-  settings.integrator = kr::Integrator::Whitted;
+  settings.integrator = kr::IntegratorType::Whitted;
   settings.width = 53;  // not a multiple of the tile size
   settings.height = 37;
   settings.samplesPerPixel = 3;

@@ -20,7 +20,7 @@
 // Refraction: a glass slab of thickness d over a checker ground shifts the ground seen through
 // it by d (tan(theta_i) - tan(theta_t)) with sin(theta_i) = n sin(theta_t) (Snell).
 #include "furnace_scene.h"
-#include "render/tracer.h"
+#include "render/renderer.h"
 
 #include <gtest/gtest.h>
 

@@ -23,7 +23,7 @@
 #include "pipeline/render_scene.h"
 #include "pipeline/stages.h"
 #include "render/surfacing.h"
-#include "render/tracer.h"
+#include "render/renderer.h"
 
 #include <nlohmann/json.hpp>
 
@@ -98,7 +98,7 @@ std::vector<BenchRow> rmseRows() {
                     }});
   for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{4, 4}, std::pair{16, 4}, std::pair{1, 16}, std::pair{4, 16}})
     rows.push_back({"whitted, " + std::to_string(spp) + " spp, " + std::to_string(sky) + " sky rays", [spp, sky](S& s) {
-                      s.integrator = render::Integrator::Whitted;
+                      s.integrator = render::IntegratorType::Whitted;
                       s.samplesPerPixel = spp;
                       s.whitted.skyDirections = sky;
                     }});
@@ -109,7 +109,7 @@ std::vector<BenchRow> rmseRows() {
 // the reference are path-traced unless a row says whitted).
 Scene pathTraced(const Scene& scene) {
   Scene s = scene;
-  s.render.settings.integrator = render::Integrator::Path;
+  s.render.settings.integrator = render::IntegratorType::Path;
   return s;
 }
 
@@ -148,7 +148,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     auto it = whittedReferences.find(skyDirections);
     if (it != whittedReferences.end()) return it->second;
     Scene whittedScene = pathScene;
-    whittedScene.render.settings.integrator = render::Integrator::Whitted;
+    whittedScene.render.settings.integrator = render::IntegratorType::Whitted;
     whittedScene.render.settings.whitted.skyDirections = skyDirections;
     whittedScene.render.settings.samplesPerPixel = 64;
     return whittedReferences.emplace(skyDirections, frame.render(whittedScene, nullptr)).first->second;
@@ -181,7 +181,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     std::sort(seconds.begin(), seconds.end());
     stats.seconds = seconds[seconds.size() / 2];
     const double rmse = imageRmse(image, reference);
-    const bool whitted = scene.render.settings.integrator == render::Integrator::Whitted;
+    const bool whitted = scene.render.settings.integrator == render::IntegratorType::Whitted;
     const double self = whitted ? imageRmse(image, whittedReference(scene.render.settings.whitted.skyDirections)) : -1.0;
     const double spp = double(stats.samples) / (double(base.width) * base.height);
     result["rows"].push_back({{"run", row.label}, {"seconds", stats.seconds}, {"rmse", rmse}, {"mean_spp", spp},

@@ -8,7 +8,7 @@
 #include "pipeline/io/particle_cache.h"
 #include "pipeline/stages.h"
 #include "pipeline/studies/study.h"
-#include "render/tracer.h"
+#include "render/renderer.h"
 
 #include <algorithm>
 #include <chrono>

@@ -1,0 +1,501 @@
+// Embree 3 geometry and queries; see embree_scene.h. Buffers are copied into Embree-allocated,
+// correctly padded storage.
+#include "render/embree_scene.h"
+
+#include <Eigen/Geometry>
+
+#include <embree3/rtcore.h>
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace kurage::render {
+namespace {
+
+using Eigen::Vector3f;
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr int kMaxClipSkips = 64;  // clipped hits skipped along one ray before giving up
+
+// The first error Embree reports through the device's error callback (any thread).
+struct EmbreeErrors {
+  std::mutex mutex;
+  std::string first;
+};
+
+void onEmbreeError(void* userPtr, RTCError code, const char* message) {
+  auto* errors = static_cast<EmbreeErrors*>(userPtr);
+  std::lock_guard lock(errors->mutex);
+  if (errors->first.empty())
+    errors->first = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "");
+}
+
+using DevicePtr = std::unique_ptr<RTCDeviceTy, decltype(&rtcReleaseDevice)>;
+using ScenePtr = std::unique_ptr<RTCSceneTy, decltype(&rtcReleaseScene)>;
+
+DevicePtr newDevice() {
+  DevicePtr device(rtcNewDevice(nullptr), &rtcReleaseDevice);
+  if (!device)
+    throw std::runtime_error("Embree: cannot create device (error " +
+                             std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+  return device;
+}
+
+void checkMaterial(const Material& m, const std::string& name) {
+  if (!(m.ior >= 1.0f && m.ior <= 4.0f)) throw std::invalid_argument(name + ": ior must be in [1, 4]");
+  if (!(m.absorption.minCoeff() >= 0.0f)) throw std::invalid_argument(name + ": absorption must be >= 0");
+  if (!(m.albedo.minCoeff() >= 0.0f && m.albedo.maxCoeff() <= 1.0f && m.albedoB.minCoeff() >= 0.0f &&
+        m.albedoB.maxCoeff() <= 1.0f))
+    throw std::invalid_argument(name + ": albedo must be in [0, 1]");
+}
+
+void checkMesh(const TriangleMesh& mesh, const std::string& name) {
+  if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size())
+    throw std::invalid_argument(name + ": normals must be empty or one per position");
+  for (const Eigen::Vector3i& t : mesh.triangles)
+    if (t.minCoeff() < 0 || static_cast<size_t>(t.maxCoeff()) >= mesh.positions.size())
+      throw std::invalid_argument(name + ": triangle index out of range");
+}
+
+void checkCurves(const CurveSet& set, const std::string& name) {
+  for (size_t t = 0; t < set.tubes.size(); ++t) {
+    const Tube& tube = set.tubes[t];
+    const std::string what = name + " tube " + std::to_string(t);
+    if (tube.radii.size() != tube.points.size()) throw std::invalid_argument(what + ": needs one radius per point");
+    for (size_t i = 0; i < tube.points.size(); ++i) {
+      if (!(tube.radii[i] > 0.0f) || !std::isfinite(tube.radii[i]))
+        throw std::invalid_argument(what + ": radii must be > 0 and finite");
+      if (!tube.points[i].allFinite()) throw std::invalid_argument(what + ": points must be finite");
+    }
+  }
+}
+
+float largestCoordinate(const std::vector<Vector3f>& points) {
+  float scale = 0.0f;
+  for (const Vector3f& p : points) scale = std::max(scale, p.cwiseAbs().maxCoeff());
+  return scale;
+}
+
+void attach(RTCScene scene, RTCGeometry geometry, unsigned geomID) {
+  rtcCommitGeometry(geometry);
+  rtcAttachGeometryByID(scene, geometry, geomID);
+  rtcReleaseGeometry(geometry);
+}
+
+// Copies one mesh into a committed Embree triangle geometry with the given ID.
+void addMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigned geomID) {
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.triangles.size()));
+  if (vertices && indices) {
+    for (size_t i = 0; i < mesh.positions.size(); ++i)
+      for (int k = 0; k < 3; ++k) vertices[3 * i + k] = mesh.positions[i][k];
+    for (size_t i = 0; i < mesh.triangles.size(); ++i)
+      for (int k = 0; k < 3; ++k) indices[3 * i + k] = static_cast<unsigned>(mesh.triangles[i][k]);
+  }
+  rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
+  attach(scene, geometry, geomID);
+}
+
+void addSpheres(RTCDevice device, RTCScene scene, const SphereSet& set, unsigned geomID) {
+  RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), set.centres.size()));
+  if (vertices)
+    for (size_t i = 0; i < set.centres.size(); ++i) {
+      for (int k = 0; k < 3; ++k) vertices[4 * i + k] = set.centres[i][k];
+      vertices[4 * i + 3] = set.radius;
+    }
+  attach(scene, geometry, geomID);
+}
+
+// The control point k = -1 .. n of a tube of n >= 2 points (x, y, z, radius): the points
+// themselves and, at k = -1 and k = n, the end points mirrored through the ends (see Tube).
+Eigen::Vector4f tubeControlPoint(const Tube& tube, int k) {
+  const int n = static_cast<int>(tube.points.size());
+  const auto at = [&](int i) {
+    Eigen::Vector4f c;
+    c << tube.points[size_t(i)], tube.radii[size_t(i)];
+    return c;
+  };
+  if (k < 0) return 2.0f * at(0) - at(1);
+  if (k >= n) return 2.0f * at(n - 1) - at(n - 2);
+  return at(k);
+}
+
+// Uniform cubic B-spline segment with control points c0..c3 at u in [0, 1].
+Eigen::Vector4f bspline(const Eigen::Vector4f& c0, const Eigen::Vector4f& c1, const Eigen::Vector4f& c2,
+                        const Eigen::Vector4f& c3, float u) {
+  const float s = 1.0f - u;
+  return (s * s * s * c0 + (3.0f * u * u * u - 6.0f * u * u + 4.0f) * c1 +
+          (-3.0f * u * u * u + 3.0f * u * u + 3.0f * u + 1.0f) * c2 + u * u * u * c3) /
+         6.0f;
+}
+
+// The plane that cuts a tube off at one end: through the end point, normal along the tube (the
+// curve's tangent there, p1 - p0 with the mirrored end control point), pointing into the tube.
+struct CapPlane {
+  Vector3f point;
+  Vector3f inward;
+};
+
+// Embree filter of the cap spheres (intersect and occluded queries): rejects hits on the half of
+// a sphere inside its tube. The hit distance is the ray's tfar during the callback.
+void capFilter(const RTCFilterFunctionNArguments* args) {
+  const auto* planes = static_cast<const std::vector<CapPlane>*>(args->geometryUserPtr);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    const Vector3f p(RTCRayN_org_x(args->ray, args->N, i) + t * RTCRayN_dir_x(args->ray, args->N, i),
+                     RTCRayN_org_y(args->ray, args->N, i) + t * RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_org_z(args->ray, args->N, i) + t * RTCRayN_dir_z(args->ray, args->N, i));
+    const CapPlane& plane = (*planes)[RTCHitN_primID(args->hit, args->N, i)];
+    if ((p - plane.point).dot(plane.inward) > 0.0f) args->valid[i] = 0;
+  }
+}
+
+// One Embree round B-spline geometry holding every tube of the set with >= 2 points, and one
+// sphere geometry holding their end caps (two per tube: start, end), filtered by capFilter with
+// `planes` (filled here; must outlive the scene). `segments` and `caps` get, per primitive ID,
+// the tube and the segment index (curves) or the end, 0 or 1 (caps).
+void addCurves(RTCDevice device, RTCScene scene, const CurveSet& set, unsigned curveID, unsigned capID,
+               std::vector<std::pair<uint32_t, uint32_t>>& segments, std::vector<std::pair<uint32_t, uint32_t>>& caps,
+               std::vector<CapPlane>& planes) {
+  size_t vertexCount = 0;
+  for (uint32_t t = 0; t < set.tubes.size(); ++t) {
+    const Tube& tube = set.tubes[t];
+    if (tube.points.size() < 2) continue;
+    vertexCount += tube.points.size() + 2;
+    for (uint32_t i = 0; i + 1 < tube.points.size(); ++i) segments.emplace_back(t, i);
+    caps.emplace_back(t, 0u);
+    caps.emplace_back(t, 1u);
+  }
+  RTCGeometry curves = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE);
+  auto* vertices = static_cast<float*>(
+      rtcSetNewGeometryBuffer(curves, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), vertexCount));
+  auto* indices = static_cast<unsigned*>(
+      rtcSetNewGeometryBuffer(curves, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(unsigned), segments.size()));
+  RTCGeometry spheres = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_SPHERE_POINT);
+  auto* centres = static_cast<float*>(
+      rtcSetNewGeometryBuffer(spheres, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, 4 * sizeof(float), caps.size()));
+  if (vertices && indices && centres) {
+    size_t v = 0, segment = 0, cap = 0;
+    for (const Tube& tube : set.tubes) {
+      const int n = static_cast<int>(tube.points.size());
+      if (n < 2) continue;
+      // Segment i uses control points i-1 .. i+2 (vertices first + i .. first + i + 3) and runs
+      // from point i to point i+1.
+      for (int i = 0; i + 1 < n; ++i) indices[segment++] = static_cast<unsigned>(v + size_t(i));
+      for (int k = -1; k <= n; ++k) {
+        const Eigen::Vector4f c = tubeControlPoint(tube, k);
+        for (int j = 0; j < 4; ++j) vertices[4 * v + size_t(j)] = c[j];
+        ++v;
+      }
+      for (const int end : {0, n - 1}) {
+        const Vector3f& tip = tube.points[size_t(end)];
+        for (int j = 0; j < 3; ++j) centres[4 * cap + size_t(j)] = tip[j];
+        centres[4 * cap + 3] = tube.radii[size_t(end)];
+        planes.push_back({tip, tube.points[size_t(end == 0 ? 1 : n - 2)] - tip});
+        ++cap;
+      }
+    }
+  }
+  rtcSetGeometryUserData(spheres, &planes);
+  rtcSetGeometryIntersectFilterFunction(spheres, capFilter);
+  rtcSetGeometryOccludedFilterFunction(spheres, capFilter);
+  attach(scene, curves, curveID);
+  attach(scene, spheres, capID);
+}
+
+// What a geometry ID refers to.
+struct Geometry {
+  const SceneObject* mesh = nullptr;
+  const SphereSet* spheres = nullptr;
+  const CurveSet* curves = nullptr;  // with `caps` false: the tubes, true: their end caps
+  bool caps = false;
+  std::vector<std::pair<uint32_t, uint32_t>> primitives;  // curves: (tube, segment); caps: (tube, end 0/1)
+  std::unique_ptr<std::vector<CapPlane>> capPlanes;       // caps: capFilter's data, by primitive ID
+};
+
+// The static meshes: owned copies, the committed scene of those with triangles (null if none),
+// what its geometry IDs refer to, and their largest coordinate magnitude.
+struct StaticScene {
+  std::vector<std::unique_ptr<TriangleMesh>> meshes;
+  std::vector<SceneObject> objects;  // their mesh points into `meshes`
+  ScenePtr scene{nullptr, &rtcReleaseScene};
+  std::vector<Geometry> geometries;
+  float scale = 0.0f;
+
+  bool equals(const std::vector<SceneObject>& other) const {
+    if (other.size() != objects.size()) return false;
+    for (size_t i = 0; i < other.size(); ++i)
+      if (!other[i].mesh || !(*other[i].mesh == *objects[i].mesh) || !(other[i].material == objects[i].material) ||
+          other[i].objectId != objects[i].objectId)
+        return false;
+    return true;
+  }
+};
+
+}  // namespace
+
+struct EmbreeScene::Impl {
+  EmbreeErrors errors;  // the device's error callback holds its address
+  DevicePtr device{nullptr, &rtcReleaseDevice};
+  StaticScene statics;
+  ScenePtr scene{nullptr, &rtcReleaseScene};  // the frame's top level
+  std::vector<Geometry> geometries;           // the frame's, by geomID of the top level
+  bool clipOn = false;
+  Vector3f clipPoint = Vector3f::Zero(), clipNormal = Vector3f::UnitY();  // unit normal
+  float epsilon = 1e-4f;
+  int staticBuilds = 0;
+
+  void throwIfError(const char* what) {
+    const RTCError code = rtcGetDeviceError(device.get());
+    std::lock_guard lock(errors.mutex);
+    if (code != RTC_ERROR_NONE || !errors.first.empty())
+      throw std::runtime_error(std::string("Embree: ") + what + " failed: " +
+                               (errors.first.empty() ? "error " + std::to_string(static_cast<int>(code)) : errors.first));
+  }
+
+  StaticScene buildStatic(const std::vector<SceneObject>& input) {
+    StaticScene built;
+    for (size_t i = 0; i < input.size(); ++i) {
+      const std::string name = "static mesh " + std::to_string(i);
+      if (!input[i].mesh) throw std::invalid_argument(name + " has no mesh");
+      checkMaterial(input[i].material, name);
+      if (!input[i].mesh->triangles.empty()) checkMesh(*input[i].mesh, name);
+      built.meshes.push_back(std::make_unique<TriangleMesh>(*input[i].mesh));
+      built.objects.push_back({built.meshes.back().get(), input[i].material, input[i].objectId});
+    }
+    built.scene.reset(rtcNewScene(device.get()));
+    for (const SceneObject& object : built.objects) {
+      if (object.mesh->triangles.empty()) continue;  // nothing to hit
+      addMesh(device.get(), built.scene.get(), *object.mesh, unsigned(built.geometries.size()));
+      built.geometries.push_back({&object, nullptr, nullptr, false, {}, nullptr});
+      built.scale = std::max(built.scale, largestCoordinate(object.mesh->positions));
+    }
+    if (built.geometries.empty()) {
+      built.scene.reset();
+    } else {
+      rtcSetSceneBuildQuality(built.scene.get(), RTC_BUILD_QUALITY_HIGH);
+      rtcCommitScene(built.scene.get());
+      throwIfError("static scene build");
+    }
+    return built;
+  }
+};
+
+EmbreeScene::EmbreeScene() : impl_(std::make_unique<Impl>()) {
+  impl_->device = newDevice();
+  rtcSetDeviceErrorFunction(impl_->device.get(), onEmbreeError, &impl_->errors);
+}
+
+EmbreeScene::~EmbreeScene() = default;
+
+void EmbreeScene::update(const RenderScene& scene) {
+  Impl& d = *impl_;
+  {
+    std::lock_guard lock(d.errors.mutex);
+    d.errors.first.clear();
+  }
+  rtcGetDeviceError(d.device.get());  // clears the device's error code
+  if (!d.statics.equals(scene.staticMeshes) || d.staticBuilds == 0) {
+    d.scene.reset();  // may hold an instance of the old static scene
+    d.geometries.clear();
+    d.statics = d.buildStatic(scene.staticMeshes);
+    ++d.staticBuilds;
+  }
+  // Scene scale for the self-intersection offset: largest coordinate magnitude in view.
+  float scale = std::max({scene.camera.position.cwiseAbs().maxCoeff(),
+                          scene.ground.enabled ? scene.ground.point.cwiseAbs().maxCoeff() : 0.0f, d.statics.scale});
+  ScenePtr top(rtcNewScene(d.device.get()), &rtcReleaseScene);
+  std::vector<Geometry> geometries;
+  RTCDevice device = d.device.get();
+  for (size_t i = 0; i < scene.meshes.size(); ++i) {
+    const std::string name = "mesh " + std::to_string(i);
+    if (!scene.meshes[i].mesh) throw std::invalid_argument(name + " has no mesh");
+    checkMaterial(scene.meshes[i].material, name);
+    if (scene.meshes[i].mesh->triangles.empty()) continue;  // nothing to hit
+    checkMesh(*scene.meshes[i].mesh, name);
+    addMesh(device, top.get(), *scene.meshes[i].mesh, unsigned(geometries.size()));
+    geometries.push_back({&scene.meshes[i], nullptr, nullptr, false, {}, nullptr});
+    scale = std::max(scale, largestCoordinate(scene.meshes[i].mesh->positions));
+  }
+  for (size_t i = 0; i < scene.spheres.size(); ++i) {
+    const SphereSet& set = scene.spheres[i];
+    const std::string name = "sphere set " + std::to_string(i);
+    checkMaterial(set.material, name);
+    if (set.centres.empty()) continue;
+    if (!(set.radius > 0.0f)) throw std::invalid_argument(name + ": radius must be > 0");
+    if (!set.colours.empty() && set.colours.size() != set.centres.size())
+      throw std::invalid_argument(name + ": colours must be empty or one per centre");
+    addSpheres(device, top.get(), set, unsigned(geometries.size()));
+    geometries.push_back({nullptr, &set, nullptr, false, {}, nullptr});
+    scale = std::max(scale, largestCoordinate(set.centres));
+  }
+  for (size_t i = 0; i < scene.curves.size(); ++i) {
+    const CurveSet& set = scene.curves[i];
+    const std::string name = "curve set " + std::to_string(i);
+    checkMaterial(set.material, name);
+    checkCurves(set, name);
+    if (std::none_of(set.tubes.begin(), set.tubes.end(), [](const Tube& t) { return t.points.size() >= 2; }))
+      continue;  // nothing to hit
+    Geometry curves{nullptr, nullptr, &set, false, {}, nullptr};
+    Geometry caps{nullptr, nullptr, &set, true, {}, std::make_unique<std::vector<CapPlane>>()};
+    const auto curveID = unsigned(geometries.size());
+    addCurves(device, top.get(), set, curveID, curveID + 1, curves.primitives, caps.primitives, *caps.capPlanes);
+    geometries.push_back(std::move(curves));
+    geometries.push_back(std::move(caps));
+    for (const Tube& tube : set.tubes) scale = std::max(scale, largestCoordinate(tube.points));
+  }
+  if (d.statics.scene) {
+    RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
+    rtcSetGeometryInstancedScene(instance, d.statics.scene.get());
+    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};  // 3x4, column-major
+    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
+    attach(top.get(), instance, unsigned(geometries.size()));
+  }
+  rtcSetSceneBuildQuality(top.get(), RTC_BUILD_QUALITY_HIGH);
+  rtcCommitScene(top.get());
+  d.throwIfError("scene build");
+  d.scene = std::move(top);
+  d.geometries = std::move(geometries);
+  d.clipOn = scene.clip.enabled;
+  if (d.clipOn) {
+    d.clipPoint = scene.clip.point;
+    d.clipNormal = scene.clip.normal.normalized();
+  }
+  d.epsilon = 1e-4f * std::max(1.0f, scale);
+}
+
+bool EmbreeScene::intersect(const Vector3f& origin, const Vector3f& direction, float tnear, float tfar,
+                            RayCounters& counters, EmbreeHit& out) const {
+  const Impl& d = *impl_;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  for (int skip = 0; skip <= kMaxClipSkips; ++skip) {
+    RTCRayHit rh{};
+    rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
+    rh.ray.dir_x = direction.x(), rh.ray.dir_y = direction.y(), rh.ray.dir_z = direction.z();
+    rh.ray.tnear = tnear;
+    rh.ray.tfar = tfar;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(d.scene.get(), &context, &rh);
+    ++counters.total;
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    if (!(d.clipOn && (origin + rh.ray.tfar * direction - d.clipPoint).dot(d.clipNormal) > 0.0f)) {
+      out.t = rh.ray.tfar;
+      out.geomID = rh.hit.geomID;
+      out.primID = rh.hit.primID;
+      out.instanced = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID;
+      out.u = rh.hit.u;
+      out.v = rh.hit.v;
+      out.ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
+      return true;
+    }
+    tnear = rh.ray.tfar + d.epsilon;
+  }
+  return false;
+}
+
+bool EmbreeScene::occluded(const Vector3f& origin, const Vector3f& direction, float tfar,
+                           RayCounters& counters) const {
+  const Impl& d = *impl_;
+  if (d.clipOn) {
+    EmbreeHit hit;
+    return intersect(origin, direction, 0.0f, tfar, counters, hit);
+  }
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray{};
+  ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
+  ray.dir_x = direction.x(), ray.dir_y = direction.y(), ray.dir_z = direction.z();
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
+  ray.mask = 0xFFFFFFFFu;
+  rtcOccluded1(d.scene.get(), &context, &ray);
+  ++counters.total;
+  return ray.tfar == -kInfinity;  // Embree marks a hit by setting tfar to -inf
+}
+
+Hit EmbreeScene::surface(const Vector3f& origin, const Vector3f& direction, const EmbreeHit& e) const {
+  const Impl& d = *impl_;
+  Hit hit;
+  hit.kind = Hit::Surface;
+  hit.t = e.t;
+  hit.point = origin + e.t * direction;
+  const Geometry& g = e.instanced ? d.statics.geometries[e.geomID] : d.geometries[e.geomID];
+  const unsigned primID = e.primID;
+  const float u = e.u, v = e.v;
+  if (g.curves) {
+    const auto [t, index] = g.primitives[primID];
+    const Tube& tube = g.curves->tubes[t];
+    Vector3f centre;  // of the circle (tube) or sphere (cap) the hit lies on
+    if (g.caps) {
+      centre = index == 0 ? tube.points.front() : tube.points.back();
+    } else {
+      const int i = static_cast<int>(index);
+      centre = bspline(tubeControlPoint(tube, i - 1), tubeControlPoint(tube, i), tubeControlPoint(tube, i + 1),
+                       tubeControlPoint(tube, i + 2), std::clamp(u, 0.0f, 1.0f))
+                   .head<3>();
+    }
+    // Embree's Ng of a round curve is the swept surface's normal (outward; the taper tilts it
+    // along the curve), of a sphere the radial direction; both are made to point away from the
+    // centre line, out of the tube, as the materials expect.
+    const Vector3f radial = hit.point - centre;
+    hit.ng = e.ng.normalized();
+    if (!hit.ng.allFinite()) hit.ng = radial.normalized();
+    else if (hit.ng.dot(radial) < 0.0f) hit.ng = -hit.ng;
+    hit.ns = hit.ng;
+    hit.material = &g.curves->material;
+    hit.albedo = checkerAlbedo(g.curves->material, g.curves->material.albedo, hit.point);
+    hit.objectId = tube.objectId != 0 ? tube.objectId : g.curves->objectId;
+  } else if (g.mesh) {
+    const TriangleMesh& mesh = *g.mesh->mesh;
+    const Eigen::Vector3i& tri = mesh.triangles[primID];
+    const Vector3f& p0 = mesh.positions[tri[0]];
+    hit.ng = (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0).normalized();  // CCW: outward
+    hit.ns = hit.ng;
+    if (!mesh.normals.empty()) {  // smooth shading: barycentric interpolation of vertex normals
+      const Vector3f n = (1.0f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
+      if (n.squaredNorm() > 0.0f) hit.ns = n.normalized();
+      if (hit.ns.dot(hit.ng) < 0.0f) hit.ng = -hit.ng;  // trust the level set's outward gradient
+    }
+    hit.material = &g.mesh->material;
+    hit.albedo = checkerAlbedo(g.mesh->material, g.mesh->material.albedo, hit.point);
+    hit.objectId = g.mesh->objectId;
+  } else {
+    const SphereSet& set = *g.spheres;
+    hit.ng = (hit.point - set.centres[primID]).normalized();
+    hit.ns = hit.ng;
+    hit.material = &set.material;
+    hit.albedo = set.colours.empty() ? set.material.albedo : set.colours[primID];
+    hit.objectId = set.objectId;
+  }
+  if (!hit.ng.allFinite()) hit.ng = hit.ns = -direction;
+  return hit;
+}
+
+float EmbreeScene::epsilon() const { return impl_->epsilon; }
+
+void EmbreeScene::throwIfError(const char* what) const { impl_->throwIfError(what); }
+
+int EmbreeScene::staticBuilds() const { return impl_->staticBuilds; }
+
+std::string embreeVersion() {
+  DevicePtr device = newDevice();
+  const auto version = rtcGetDeviceProperty(device.get(), RTC_DEVICE_PROPERTY_VERSION);  // e.g. 31305
+  return std::to_string(version / 10000) + "." + std::to_string(version / 100 % 100) + "." +
+         std::to_string(version % 100);
+}
+
+}  // namespace kurage::render

@@ -1,0 +1,117 @@
+// See frame_scene.h.
+#include "render/frame_scene.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace kurage::render {
+
+namespace {
+using Eigen::Vector3f;
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr int kMaxShadowCrossings = 16;  // dielectric surfaces a shadow ray may pass
+
+Vector3f groundAlbedo(const FrameScene& f, const Vector3f& point) {
+  const Ground& g = f.input.ground;
+  if (g.checkerSize <= 0.0f) return g.albedoA;
+  const Vector3f offset = point - g.point;
+  const double cells = std::floor(offset.dot(f.groundU) / g.checkerSize) + std::floor(offset.dot(f.groundV) / g.checkerSize);
+  return std::fmod(std::abs(cells), 2.0) == 0.0 ? g.albedoA : g.albedoB;
+}
+}  // namespace
+
+FrameScene::FrameScene(const RenderScene& scene, const EmbreeScene& embree, const EnvironmentSampler& sampler,
+                       bool transmissive)
+    : input(scene), geometry(embree), environment(sampler), transmissiveShadows(transmissive),
+      epsilon(embree.epsilon()) {
+  toSun = -scene.sun.direction.normalized();
+  const float sunRadius = 0.5f * scene.sun.angularDiameterDegrees * std::numbers::pi_v<float> / 180.0f;
+  sunCosMax = std::cos(sunRadius);
+  const float sunSolidAngle = 2.0f * std::numbers::pi_v<float> * (1.0f - sunCosMax);
+  sunRadiance = sunSolidAngle > 0.0f ? Vector3f(scene.sun.irradiance / sunSolidAngle) : Vector3f::Zero();
+  sunOn = scene.sun.irradiance.maxCoeff() > 0.0f;
+  if (scene.ground.enabled) {
+    groundNormal = scene.ground.normal.normalized();
+    const Vector3f axis = std::abs(groundNormal.x()) < 0.9f ? Vector3f::UnitX() : Vector3f::UnitY();
+    groundU = (axis - groundNormal.dot(axis) * groundNormal).normalized();
+    groundV = groundNormal.cross(groundU);
+  }
+}
+
+Hit FrameScene::intersect(const Vector3f& origin, const Vector3f& direction, RayCounters& counters) const {
+  Hit hit;
+  EmbreeHit e;
+  if (geometry.intersect(origin, direction, 0.0f, kInfinity, counters, e)) hit = geometry.surface(origin, direction, e);
+  const Ground& ground = input.ground;
+  if (ground.enabled) {
+    const float denominator = direction.dot(groundNormal);
+    if (denominator != 0.0f) {
+      const float tg = (ground.point - origin).dot(groundNormal) / denominator;
+      if (tg > 0.0f && tg < hit.t) {
+        hit.kind = Hit::Ground;
+        hit.t = tg;
+        hit.point = origin + tg * direction;
+        hit.ng = hit.ns = groundNormal;
+        hit.material = nullptr;
+        hit.albedo = groundAlbedo(*this, hit.point);
+        hit.objectId = kObjectGround;
+      }
+    }
+  }
+  const std::vector<RectLight>& lights = input.rectLights;
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const RectLight& l = lights[i];
+    const Vector3f n = l.edgeU.cross(l.edgeV);
+    const float denominator = direction.dot(n);
+    if (denominator == 0.0f) continue;
+    const float tl = (l.corner - origin).dot(n) / denominator;
+    if (!(tl > 0.0f && tl < hit.t)) continue;
+    const Vector3f q = origin + tl * direction - l.corner;
+    const float s = q.dot(l.edgeU) / l.edgeU.squaredNorm(), r = q.dot(l.edgeV) / l.edgeV.squaredNorm();
+    if (s < 0.0f || s > 1.0f || r < 0.0f || r > 1.0f) continue;
+    hit.kind = Hit::Light;
+    hit.t = tl;
+    hit.point = origin + tl * direction;
+    hit.ng = hit.ns = n.normalized();
+    hit.light = static_cast<int>(i);
+    hit.objectId = kObjectLight;
+  }
+  return hit;
+}
+
+Vector3f FrameScene::transmittance(Vector3f origin, const Vector3f& direction, float tfar,
+                                   RayCounters& counters) const {
+  if (!transmissiveShadows)
+    return geometry.occluded(origin, direction, tfar, counters) ? Vector3f::Zero() : Vector3f::Ones();
+  Vector3f through = Vector3f::Ones();
+  float etendue = 1.0f;  // the product of ior^2 entered and 1/ior^2 left
+  for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
+    EmbreeHit e;
+    if (!geometry.intersect(origin, direction, 0.0f, tfar, counters, e)) return through * etendue;
+    const Hit hit = geometry.surface(origin, direction, e);
+    const float t = e.t;
+    const Material& m = *hit.material;
+    if (m.type != MaterialType::Dielectric) return Vector3f::Zero();
+    const float cosine = direction.dot(hit.ng);
+    const bool leaving = cosine > 0.0f;  // the segment just travelled was inside
+    through *= 1.0f - fresnelDielectric(std::abs(cosine), 1.0f, m.ior);
+    if (leaving) through = through.cwiseProduct((-m.absorption * t).array().exp().matrix());
+    etendue *= leaving ? 1.0f / (m.ior * m.ior) : m.ior * m.ior;
+    if (through.maxCoeff() <= 0.0f) return Vector3f::Zero();
+    origin = hit.point + (leaving ? epsilon : -epsilon) * hit.ng;
+    tfar = tfar == kInfinity ? kInfinity : tfar - t;
+    if (!(tfar > 0.0f)) return through * etendue;
+  }
+  return Vector3f::Zero();
+}
+
+bool FrameScene::groundBlocks(const Vector3f& origin, const Vector3f& direction) const {
+  if (!input.ground.enabled) return false;
+  const float denominator = direction.dot(groundNormal);
+  return denominator != 0.0f && (input.ground.point - origin).dot(groundNormal) / denominator > 0.0f;
+}
+
+}  // namespace kurage::render

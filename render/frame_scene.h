@@ -1,0 +1,69 @@
+// One frame's scene as the integrators see it: the closest hit among the Embree geometry
+// (embree_scene.h), the analytic ground and the area lights; the transmittance of shadow rays; and
+// the lights' derived quantities (the sun's direction, cone and radiance, the environment's
+// sampler). Read-only while the frame renders, so any number of threads may query it.
+//
+// The sun of angular radius r (lights.h) is a cone of directions about toSun with
+// cos r = sunCosMax and solid angle 2 pi (1 - cos r); its radiance is irradiance / solid angle
+// (0 for a point sun, r = 0, which only shadow rays find).
+//
+// Shadow rays (transmittance) with transmissive shadows pass dielectric surfaces straight: each
+// crossing lets (1 - F) through, F taken at that angle from the air's side (so no total internal
+// reflection: a wave facet steeper than the critical angle does not cast a black shadow, which
+// the refracted light of its neighbours would fill), the medium absorbs exp(-absorption * length),
+// and the radiance is divided by ior^2 for every medium the ray leaves and multiplied by it for
+// every one it enters. A shading point under water thus receives 1/ior^2 of what the unbent ray
+// carries: the sky seen from under a flat surface is squeezed into a cone whose projected solid
+// angle is 1/ior^2 of the hemisphere's, and a beam (the sun, a small light) crosses the same
+// horizontal area, while the integrators do not scale radiance at refractions (materials.cpp), so
+// the camera's path out of the water does not undo it. For a flat surface over a parallel floor
+// the unbent ray then gives exactly the irradiance of the refracted paths (conservation of
+// etendue, n^2 cos dw invariant); a ray through a parallel slab from air to air keeps (1 - F)^2,
+// the slab's exact single-pass transmission. At most 16 crossings; an opaque surface gives 0.
+// Without transmissive shadows any surface blocks.
+#pragma once
+
+#include "render/embree_scene.h"
+#include "render/hit.h"
+#include "render/lights.h"
+#include "render/scene.h"
+
+#include <Eigen/Core>
+
+namespace kurage::render {
+
+struct FrameScene {
+  // `geometry` built from `scene` (EmbreeScene::update); `environment` empty unless the
+  // environment is sampled as a light. All three must outlive this.
+  FrameScene(const RenderScene& scene, const EmbreeScene& geometry, const EnvironmentSampler& environment,
+             bool transmissiveShadows);
+
+  // Closest hit among the Embree geometry, the ground and the area lights (kind None: the ray
+  // leaves the scene).
+  Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, RayCounters& counters) const;
+  // Fraction of light that reaches `origin` along unit `direction` from distance tfar (see above).
+  Eigen::Vector3f transmittance(Eigen::Vector3f origin, const Eigen::Vector3f& direction, float tfar,
+                                RayCounters& counters) const;
+  // Whether the infinite ground stands in the way of the ray (shadow rays ignore it otherwise: it
+  // casts no shadows, but the sky below its horizon must not light anything above it).
+  bool groundBlocks(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction) const;
+  // Where a ray leaving the hit in direction wi starts: the point moved by epsilon along ng to
+  // wi's side.
+  Eigen::Vector3f leave(const Hit& hit, const Eigen::Vector3f& wi) const {
+    return hit.point + (wi.dot(hit.ng) > 0.0f ? epsilon : -epsilon) * hit.ng;
+  }
+
+  const RenderScene& input;
+  const EmbreeScene& geometry;
+  const EnvironmentSampler& environment;
+  bool transmissiveShadows;
+  float epsilon;                 // ray offset against self-intersection, metres
+  Eigen::Vector3f toSun;         // unit, towards the sun
+  float sunCosMax = 1.0f;        // cos of the sun's angular radius
+  Eigen::Vector3f sunRadiance;   // irradiance / solid angle (0 for a point sun)
+  bool sunOn = false;
+  Eigen::Vector3f groundNormal = Eigen::Vector3f::UnitZ();  // unit
+  Eigen::Vector3f groundU, groundV;                         // unit, spanning the ground plane (checker axes)
+};
+
+}  // namespace kurage::render

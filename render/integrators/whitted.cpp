@@ -1,0 +1,211 @@
+// The Whitted integrator (RenderSettings::integrator "whitted"): deterministic ray tracing in the
+// manner of Whitted (1980), "An improved illumination model for shaded display", and POV-Ray.
+//
+// At dielectric surfaces both the Fresnel-reflected and the refracted ray are followed (a tree,
+// cut at maxDepth and where a branch's weight, the product of its Fresnel and mirror factors,
+// falls below 1e-3); mirrors reflect; diffuse surfaces take only direct light:
+//   sun        along its centre direction (hard shadows), irradiance E f cos
+//   area light at the centres of a lightSamples x lightSamples grid on it, each
+//              L cos_light A / (d^2 grid^2) f cos
+//   sky        along skyDirections fixed cosine-distributed directions about the shading normal
+//              (each with its shadow ray), (albedo / K) sum L T over K directions, the cosine
+//              weighting cancelling the cosine (sum L T / K estimates E / pi)
+// The sky directions differ from sample to sample of a pixel: sample s takes points s, s + S, ...
+// of one Hammersley set of skyDirections x S points (S = samplesPerPixel), the same at every
+// pixel, so the pixel averages skyDirections x S directions and the sky's shadows are not
+// skyDirections hard copies. Shadow rays follow RenderSettings::transmissiveShadows. Translucent
+// bodies are shaded as diffuse with albedo tint^2 (1 - F) (light scattered in and out once) plus
+// the Fresnel reflection. No indirect diffuse light, no caustics.
+//
+// Camera samples: samplesPerPixel fixed sub-pixel positions of a Hammersley set shifted half a
+// stratum in ((s + 1/2)/n, frac(radicalInverse2(s) + 1/2n)), the lens point the same two numbers
+// swapped. The image depends on neither the seed nor the thread count, and has no noise; the
+// random numbers go unused.
+#include "render/integrators/integrator.h"
+#include "render/renderer.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace kurage::render {
+namespace {
+
+using Eigen::Vector2f;
+using Eigen::Vector3f;
+
+constexpr float kInfinity = std::numeric_limits<float>::infinity();
+constexpr float kWhittedCutoff = 1e-3f;  // branches whose weight falls below this are dropped
+const Material kGroundMaterial{};
+
+class WhittedIntegrator final : public Integrator {
+public:
+  WhittedIntegrator(const FrameScene& scene, const RenderSettings& settings)
+      : f_(scene), settings_(settings), skySamples_(std::max(1, settings.samplesPerPixel)) {
+    // fixed Hammersley points, shifted half a stratum off the pole
+    const int points = settings.whitted.skyDirections * skySamples_;
+    for (int k = 0; k < points; ++k) {
+      const float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points);
+      skySet_.emplace_back((float(k) + 0.5f) / float(points), v - std::floor(v));
+    }
+  }
+
+  bool noisy() const override { return false; }
+
+  CameraSample cameraSample(uint32_t, int s, int n, PixelSampler&) const override {
+    const float sx = (float(s) + 0.5f) / float(n);
+    float sy = radicalInverse2(uint32_t(s)) + 0.5f / float(n);
+    sy -= std::floor(sy);
+    return {{sx, sy}, {sy, sx}};
+  }
+
+  Vector3f radiance(const Vector3f& origin, const Vector3f& direction, int s, PixelSampler&, RayCounters& counters,
+                    bool& hitSomething, PathFeatures*) const override {
+    return trace(origin, direction, 0, Vector3f::Zero(), 1.0f, s, counters, &hitSomething);
+  }
+
+private:
+  Vector3f direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, int sample, RayCounters& counters) const;
+  Vector3f trace(const Vector3f& origin, const Vector3f& direction, int depth, const Vector3f& absorption,
+                 float weight, int sample, RayCounters& counters, bool* hitSomething) const;
+
+  const FrameScene& f_;
+  const RenderSettings& settings_;
+  // the fixed points warped to sky directions, skyDirections x samplesPerPixel of them (one
+  // Hammersley set); the pixel's sample s takes points s, s + S, s + 2 S, ... (S = skySamples_)
+  std::vector<Vector2f> skySet_;
+  int skySamples_ = 1;
+};
+
+// Direct light at a diffuse point of the given albedo, no noise: the sun along its centre
+// direction, each area light at the centres of an n x n grid, the sky along the fixed
+// cosine-distributed directions about the shading normal that belong to the pixel's sample
+// `sample` (skySet_), turned to wo's side.
+Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, int sample,
+                                   RayCounters& counters) const {
+  const FrameScene& f = f_;
+  const bool outside = wo.dot(hit.ng) >= 0.0f;
+  const Vector3f g = outside ? hit.ng : Vector3f(-hit.ng);
+  Vector3f n = outside ? hit.ns : Vector3f(-hit.ns);
+  if (!(wo.dot(n) > 1e-6f)) n = g;
+  const float invPi = 1.0f / std::numbers::pi_v<float>;
+  const auto fcos = [&](const Vector3f& wi) {
+    return wi.dot(g) > 0.0f ? Vector3f(albedo * (invPi * std::max(0.0f, wi.dot(n)))) : Vector3f::Zero();
+  };
+  Vector3f sum = Vector3f::Zero();
+  if (f.sunOn) {
+    const Vector3f c = fcos(f.toSun);
+    if (c.maxCoeff() > 0.0f)
+      sum += c.cwiseProduct(f.input.sun.irradiance)
+                 .cwiseProduct(f.transmittance(f.leave(hit, f.toSun), f.toSun, kInfinity, counters));
+  }
+  const int grid = settings_.whitted.lightSamples;
+  for (const RectLight& l : f.input.rectLights) {
+    const Vector3f normal = l.edgeU.cross(l.edgeV);
+    const float area = normal.norm();
+    if (area == 0.0f) continue;
+    for (int j = 0; j < grid; ++j)
+      for (int i = 0; i < grid; ++i) {
+        const Vector3f q = l.corner + (float(i) + 0.5f) / float(grid) * l.edgeU + (float(j) + 0.5f) / float(grid) * l.edgeV;
+        const Vector3f d = q - hit.point;
+        const float distance2 = d.squaredNorm();
+        if (!(distance2 > 0.0f)) continue;
+        const float distance = std::sqrt(distance2);
+        const Vector3f wi = d / distance;
+        const float cosLight = -wi.dot(normal) / area;
+        const Vector3f c = fcos(wi);
+        if (cosLight <= 0.0f || c.maxCoeff() <= 0.0f) continue;
+        sum += c.cwiseProduct(l.radiance)
+                   .cwiseProduct(f.transmittance(f.leave(hit, wi), wi, distance * (1.0f - 1e-4f), counters)) *
+               (cosLight * area / (distance2 * float(grid * grid)));
+      }
+  }
+  Vector3f sky = Vector3f::Zero();
+  for (size_t k = size_t(sample % skySamples_); k < skySet_.size(); k += size_t(skySamples_)) {
+    const Vector2f& u = skySet_[k];
+    const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
+    if (wi.dot(g) <= 0.0f || f.groundBlocks(hit.point, wi)) continue;
+    sky += environmentRadiance(f.input.environment, wi).cwiseProduct(f.transmittance(f.leave(hit, wi), wi, kInfinity, counters));
+  }
+  if (!skySet_.empty()) sum += albedo.cwiseProduct(sky) * (float(skySamples_) / float(skySet_.size()));
+  return sum;
+}
+
+// Radiance along a ray; `weight` is the product of the Fresnel and mirror factors so far (for the
+// cutoff), `absorption` the medium's coefficient (0: air).
+Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direction, int depth,
+                                  const Vector3f& absorption, float weight, int sample, RayCounters& counters,
+                                  bool* hitSomething) const {
+  const FrameScene& f = f_;
+  const Hit hit = f.intersect(origin, direction, counters);
+  if (hitSomething) *hitSomething = hit.kind != Hit::None;
+  if (hit.kind == Hit::None) {
+    if (depth == 0 && settings_.transparentBackground) return Vector3f::Zero();
+    Vector3f l = environmentRadiance(f.input.environment, direction);
+    if (f.sunOn && f.sunCosMax < 1.0f && direction.dot(f.toSun) >= f.sunCosMax) l += f.sunRadiance;
+    return l;
+  }
+  const Vector3f attenuation =
+      absorption.maxCoeff() > 0.0f ? Vector3f((-absorption * hit.t).array().exp().matrix()) : Vector3f::Ones();
+  if (hit.kind == Hit::Light)
+    return direction.dot(hit.ng) < 0.0f
+               ? Vector3f(attenuation.cwiseProduct(f.input.rectLights[size_t(hit.light)].radiance))
+               : Vector3f::Zero();
+  if (depth >= settings_.maxDepth) return Vector3f::Zero();
+  const Material& material = hit.material ? *hit.material : kGroundMaterial;
+  const Vector3f wo = -direction;
+  Vector3f radiance = Vector3f::Zero();
+  const auto follow = [&](const ScatterSample& s, const Vector3f& factor) {
+    const float branch = weight * factor.maxCoeff();
+    if (!(branch >= kWhittedCutoff)) return;
+    Vector3f medium = absorption;
+    if (s.transmitted && hit.material) medium = wo.dot(hit.ng) > 0.0f ? material.absorption : Vector3f::Zero();
+    radiance += factor.cwiseProduct(
+        trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, sample, counters, nullptr));
+  };
+  // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
+  const auto fresnel = [&] {
+    const bool outside = wo.dot(hit.ng) >= 0.0f;
+    float cosO = wo.dot(outside ? hit.ns : Vector3f(-hit.ns));
+    if (!(cosO > 1e-6f)) cosO = std::max(std::abs(wo.dot(hit.ng)), 1e-6f);
+    return fresnelDielectric(cosO, outside ? 1.0f : material.ior, outside ? material.ior : 1.0f);
+  };
+  ScatterSample s;
+  constexpr float kAlmostOne = 1.0f - 0x1p-24f;
+  switch (material.type) {
+    case MaterialType::Diffuse:
+      radiance = direct(hit, hit.albedo, wo, sample, counters);
+      break;
+    case MaterialType::Mirror:
+      if (sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s)) follow(s, s.weight);
+      break;
+    case MaterialType::Dielectric: {
+      const float F = fresnel();
+      if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s))
+        follow(s, Vector3f::Constant(F));
+      if (F < 1.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, kAlmostOne, 0.5f, 0.5f, s))
+        follow(s, Vector3f::Constant(1.0f - F));
+      break;
+    }
+    case MaterialType::Translucent: {
+      const float F = fresnel();
+      if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s) && !s.transmitted)
+        follow(s, Vector3f::Constant(F));
+      radiance += direct(hit, hit.albedo.cwiseProduct(hit.albedo) * (1.0f - F), wo, sample, counters);
+      break;
+    }
+  }
+  return attenuation.cwiseProduct(radiance);
+}
+
+}  // namespace
+
+std::unique_ptr<Integrator> makeWhittedIntegrator(const FrameScene& scene, const RenderSettings& settings) {
+  return std::make_unique<WhittedIntegrator>(scene, settings);
+}
+
+}  // namespace kurage::render
