@@ -87,8 +87,10 @@ void attach(RTCScene scene, RTCGeometry geometry, unsigned geomID) {
   rtcReleaseGeometry(geometry);
 }
 
-// Copies one mesh into a committed Embree triangle geometry with the given ID.
-void addMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigned geomID) {
+using GeometryPtr = std::unique_ptr<RTCGeometryTy, decltype(&rtcReleaseGeometry)>;
+
+// One mesh copied into a committed Embree triangle geometry.
+GeometryPtr meshGeometry(RTCDevice device, const TriangleMesh& mesh) {
   RTCGeometry geometry = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
   auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
       geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
@@ -101,7 +103,8 @@ void addMesh(RTCDevice device, RTCScene scene, const TriangleMesh& mesh, unsigne
       for (int k = 0; k < 3; ++k) indices[3 * i + k] = static_cast<unsigned>(mesh.triangles[i][k]);
   }
   rtcSetGeometryBuildQuality(geometry, RTC_BUILD_QUALITY_HIGH);
-  attach(scene, geometry, geomID);
+  rtcCommitGeometry(geometry);
+  return GeometryPtr(geometry, &rtcReleaseGeometry);
 }
 
 void addSpheres(RTCDevice device, RTCScene scene, const SphereSet& set, unsigned geomID) {
@@ -224,13 +227,13 @@ struct Geometry {
   std::unique_ptr<std::vector<CapPlane>> capPlanes;       // caps: capFilter's data, by primitive ID
 };
 
-// The static meshes: owned copies, the committed scene of those with triangles (null if none),
-// what its geometry IDs refer to, and their largest coordinate magnitude.
-struct StaticScene {
+// The static meshes: owned copies, the committed Embree geometries of those with triangles and
+// what each refers to, and their largest coordinate magnitude.
+struct StaticMeshes {
   std::vector<std::unique_ptr<TriangleMesh>> meshes;
   std::vector<SceneObject> objects;  // their mesh points into `meshes`
-  ScenePtr scene{nullptr, &rtcReleaseScene};
-  std::vector<Geometry> geometries;
+  std::vector<GeometryPtr> embree;
+  std::vector<const SceneObject*> embreeObjects;  // what each of `embree` is
   float scale = 0.0f;
 
   bool equals(const std::vector<SceneObject>& other) const {
@@ -248,9 +251,9 @@ struct StaticScene {
 struct EmbreeScene::Impl {
   EmbreeErrors errors;  // the device's error callback holds its address
   DevicePtr device{nullptr, &rtcReleaseDevice};
-  StaticScene statics;
-  ScenePtr scene{nullptr, &rtcReleaseScene};  // the frame's top level
-  std::vector<Geometry> geometries;           // the frame's, by geomID of the top level
+  StaticMeshes statics;
+  ScenePtr scene{nullptr, &rtcReleaseScene};  // the frame's
+  std::vector<Geometry> geometries;           // the frame's, by geomID
   bool clipOn = false;
   Vector3f clipPoint = Vector3f::Zero(), clipNormal = Vector3f::UnitY();  // unit normal
   float epsilon = 1e-4f;
@@ -264,8 +267,8 @@ struct EmbreeScene::Impl {
                                (errors.first.empty() ? "error " + std::to_string(static_cast<int>(code)) : errors.first));
   }
 
-  StaticScene buildStatic(const std::vector<SceneObject>& input) {
-    StaticScene built;
+  StaticMeshes makeStatic(const std::vector<SceneObject>& input) {
+    StaticMeshes built;
     for (size_t i = 0; i < input.size(); ++i) {
       const std::string name = "static mesh " + std::to_string(i);
       if (!input[i].mesh) throw std::invalid_argument(name + " has no mesh");
@@ -274,20 +277,13 @@ struct EmbreeScene::Impl {
       built.meshes.push_back(std::make_unique<TriangleMesh>(*input[i].mesh));
       built.objects.push_back({built.meshes.back().get(), input[i].material, input[i].objectId});
     }
-    built.scene.reset(rtcNewScene(device.get()));
     for (const SceneObject& object : built.objects) {
       if (object.mesh->triangles.empty()) continue;  // nothing to hit
-      addMesh(device.get(), built.scene.get(), *object.mesh, unsigned(built.geometries.size()));
-      built.geometries.push_back({&object, nullptr, nullptr, false, {}, nullptr});
+      built.embree.push_back(meshGeometry(device.get(), *object.mesh));
+      built.embreeObjects.push_back(&object);
       built.scale = std::max(built.scale, largestCoordinate(object.mesh->positions));
     }
-    if (built.geometries.empty()) {
-      built.scene.reset();
-    } else {
-      rtcSetSceneBuildQuality(built.scene.get(), RTC_BUILD_QUALITY_HIGH);
-      rtcCommitScene(built.scene.get());
-      throwIfError("static scene build");
-    }
+    throwIfError("static geometry");
     return built;
   }
 };
@@ -307,9 +303,9 @@ void EmbreeScene::update(const RenderScene& scene) {
   }
   rtcGetDeviceError(d.device.get());  // clears the device's error code
   if (!d.statics.equals(scene.staticMeshes) || d.staticBuilds == 0) {
-    d.scene.reset();  // may hold an instance of the old static scene
+    d.scene.reset();  // holds the old static geometries
     d.geometries.clear();
-    d.statics = d.buildStatic(scene.staticMeshes);
+    d.statics = d.makeStatic(scene.staticMeshes);
     ++d.staticBuilds;
   }
   // Scene scale for the self-intersection offset: largest coordinate magnitude in view.
@@ -318,13 +314,17 @@ void EmbreeScene::update(const RenderScene& scene) {
   ScenePtr top(rtcNewScene(d.device.get()), &rtcReleaseScene);
   std::vector<Geometry> geometries;
   RTCDevice device = d.device.get();
+  for (size_t i = 0; i < d.statics.embree.size(); ++i) {
+    rtcAttachGeometryByID(top.get(), d.statics.embree[i].get(), unsigned(geometries.size()));
+    geometries.push_back({d.statics.embreeObjects[i], nullptr, nullptr, false, {}, nullptr});
+  }
   for (size_t i = 0; i < scene.meshes.size(); ++i) {
     const std::string name = "mesh " + std::to_string(i);
     if (!scene.meshes[i].mesh) throw std::invalid_argument(name + " has no mesh");
     checkMaterial(scene.meshes[i].material, name);
     if (scene.meshes[i].mesh->triangles.empty()) continue;  // nothing to hit
     checkMesh(*scene.meshes[i].mesh, name);
-    addMesh(device, top.get(), *scene.meshes[i].mesh, unsigned(geometries.size()));
+    rtcAttachGeometryByID(top.get(), meshGeometry(device, *scene.meshes[i].mesh).get(), unsigned(geometries.size()));
     geometries.push_back({&scene.meshes[i], nullptr, nullptr, false, {}, nullptr});
     scale = std::max(scale, largestCoordinate(scene.meshes[i].mesh->positions));
   }
@@ -354,13 +354,6 @@ void EmbreeScene::update(const RenderScene& scene) {
     geometries.push_back(std::move(curves));
     geometries.push_back(std::move(caps));
     for (const Tube& tube : set.tubes) scale = std::max(scale, largestCoordinate(tube.points));
-  }
-  if (d.statics.scene) {
-    RTCGeometry instance = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_INSTANCE);
-    rtcSetGeometryInstancedScene(instance, d.statics.scene.get());
-    const float identity[12] = {1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};  // 3x4, column-major
-    rtcSetGeometryTransform(instance, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, identity);
-    attach(top.get(), instance, unsigned(geometries.size()));
   }
   rtcSetSceneBuildQuality(top.get(), RTC_BUILD_QUALITY_HIGH);
   rtcCommitScene(top.get());
@@ -396,7 +389,6 @@ bool EmbreeScene::intersect(const Vector3f& origin, const Vector3f& direction, f
       out.t = rh.ray.tfar;
       out.geomID = rh.hit.geomID;
       out.primID = rh.hit.primID;
-      out.instanced = rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID;
       out.u = rh.hit.u;
       out.v = rh.hit.v;
       out.ng = {rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z};
@@ -433,7 +425,7 @@ Hit EmbreeScene::surface(const Vector3f& origin, const Vector3f& direction, cons
   hit.kind = Hit::Surface;
   hit.t = e.t;
   hit.point = origin + e.t * direction;
-  const Geometry& g = e.instanced ? d.statics.geometries[e.geomID] : d.geometries[e.geomID];
+  const Geometry& g = d.geometries[e.geomID];
   const unsigned primID = e.primID;
   const float u = e.u, v = e.v;
   if (g.curves) {

@@ -1,16 +1,18 @@
 // The scene's meshes, spheres and tubes (scene.h) in Embree 3 bounding volume hierarchies, and
 // the ray queries on them: closest hit and occlusion, past the clip plane.
 //
-// Two levels. The static meshes (RenderScene::staticMeshes) are copied into a scene of their own,
-// built once and kept for as long as the frames' static meshes equal the copy, value for value;
-// a frame whose static meshes differ (another tank, or the camera moved to the other side of a
-// wall, which changes the walls drawn) rebuilds it. Every frame builds a top-level scene of the
-// moving geometry (one triangle geometry per mesh, one RTC_GEOMETRY_TYPE_SPHERE_POINT geometry per
-// sphere set, per curve set one RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE geometry for the tubes and
-// one sphere geometry for their end caps) and one instance of the static scene. The instance's
-// transform is the identity, which Embree applies exactly (products with 1 and 0), so a ray meets
-// an instanced triangle at the same floats as a triangle of the top-level scene. All BVHs are
-// built at RTC_BUILD_QUALITY_HIGH (SAH with spatial splits: slower to build, faster to trace).
+// One scene per frame, one BVH over everything, built at RTC_BUILD_QUALITY_HIGH (SAH with
+// spatial splits: slower to build, faster to trace). Its geometries, by ID: first the static
+// meshes (RenderScene::staticMeshes), then one triangle geometry per moving mesh, one
+// RTC_GEOMETRY_TYPE_SPHERE_POINT geometry per sphere set, and per curve set one
+// RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE geometry for the tubes and one sphere geometry for their
+// end caps. The static meshes are copied, checked and made Embree geometries once, and those are
+// attached to every frame's scene for as long as the frames' static meshes equal the copy, value
+// for value; a frame whose static meshes differ (another tank, or a camera moved to the other
+// side of a wall, which changes the walls drawn) makes them again. The moving geometry is made
+// every frame. Limit: the BVH is rebuilt every frame over the static triangles too, which costs
+// little for a tank's few walls; a static mesh of millions of triangles would want a BVH of its
+// own, instanced, at the price of a second traversal for every ray that crosses its bounds.
 //
 // The clip plane is applied by re-tracing past clipped hits (at most 64 along a ray). The half of
 // each cap sphere that lies inside its tube is removed by an Embree filter callback instead: that
@@ -18,7 +20,7 @@
 // could step past the wall too and let the ray out.
 //
 // The geometry of a frame references the RenderScene it was built from (its moving meshes, sphere
-// sets and curve sets): that scene must outlive the frame's queries. The static copy is owned.
+// sets and curve sets): that scene must outlive the frame's queries. The static copies are owned.
 // Queries are thread-safe; update() is not, and must not run during queries.
 #pragma once
 
@@ -37,7 +39,6 @@ namespace kurage::render {
 struct EmbreeHit {
   float t = std::numeric_limits<float>::infinity();
   unsigned geomID = ~0u, primID = 0;
-  bool instanced = false;          // in the static scene
   float u = 0.0f, v = 0.0f;        // Embree's hit coordinates (barycentric; curve parameter)
   Eigen::Vector3f ng = Eigen::Vector3f::Zero();  // Embree's geometric normal, not normalised
 };
@@ -50,8 +51,8 @@ public:
   EmbreeScene(const EmbreeScene&) = delete;
   EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-  // Builds the frame's geometry from `scene`, reusing the static scene when the static meshes
-  // are unchanged. Throws std::invalid_argument for bad geometry or materials (naming "mesh 2",
+  // Builds the frame's geometry from `scene`, reusing the static meshes' Embree geometries when
+  // they are unchanged. Throws std::invalid_argument for bad geometry or materials (naming "mesh 2",
   // "static mesh 0", "sphere set 1", "curve set 0 tube 3") and std::runtime_error if Embree fails.
   void update(const RenderScene& scene);
 
@@ -70,7 +71,7 @@ public:
   float epsilon() const;
   // Throws std::runtime_error naming `what` if Embree reported an error since the device was made.
   void throwIfError(const char* what) const;
-  // How many times the static scene was built (for tests).
+  // How many times the static meshes' geometries were made (for tests).
   int staticBuilds() const;
 
 private:

@@ -855,10 +855,9 @@ kr::TriangleMesh wallMesh(float height) {
 }  // namespace
 
 TEST(StaticGeometry, IsBuiltOnceAndRendersAsTheSameMeshRebuiltEveryFrameWould) {
-  // Three frames of a moving sphere before a static wall, by one Renderer: the wall's BVH is built
-  // by the first frame only, and each frame is bit for bit the image of the same scene with the
-  // wall among the moving meshes, rendered by a fresh renderer (the instance's identity transform
-  // changes no float).
+  // Three frames of a moving sphere before a static wall, by one Renderer: the wall's geometry is
+  // made by the first frame only, and each frame is bit for bit the image of the same scene with
+  // the wall among the moving meshes, rendered by a fresh renderer.
   const kr::TriangleMesh wall = wallMesh(3.0f);
   const kr::RenderSettings settings = renderSettings(40, 30, 3, 6);
   kr::Renderer renderer;
