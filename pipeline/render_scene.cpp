@@ -53,7 +53,7 @@ render::RenderScene makeRenderScene(const Scene& scene, double time) {
   if (p.tank.enabled) {
     auto tank = std::make_shared<render::TriangleMesh>(tankMesh(scene, out.camera.position));
     if (!tank->triangles.empty()) {
-      out.meshes.push_back({tank.get(), p.tank.material, kObjectTank});
+      out.staticMeshes.push_back({tank.get(), p.tank.material, kObjectTank});
       out.ownedMeshes.push_back(std::move(tank));
     }
   }

@@ -208,7 +208,7 @@ void runSurfaceStage(const Scene& scene, const StageOptions& options, RunRecord&
 
 render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces, double time,
                              render::RenderStats* stats, const std::vector<render::CurveSet>& curves,
-                             render::FrameLayers* layers) {
+                             render::FrameLayers* layers, render::Renderer* renderer) {
   std::vector<render::TriangleMesh> meshes;
   meshes.reserve(surfaces.size());
   render::RenderScene view = makeRenderScene(scene, time);
@@ -222,7 +222,8 @@ render::Image renderSurfaces(const Scene& scene, const std::map<std::string, ren
   }
   view.curves = curves;
   if (layers) layers->objectNames = objectNames(scene);
-  return render::renderFrame(view, scene.render.settings, stats, layers);
+  return renderer ? renderer->render(view, scene.render.settings, stats, layers)
+                  : render::renderFrame(view, scene.render.settings, stats, layers);
 }
 
 namespace {
@@ -249,10 +250,12 @@ void renderOneFrame(const StageContext& c, int f, FrameTally& tally) {
   render::FrameLayers layers;
   const render::Image image =
       renderSurfaces(scene, readSurfaceFile(surfaceFile(c.outDir, f), c.stamp("surface", f)), scene.output.frameTime(f),
-                     &stats, curves, scene.render.outputs.exr ? &layers : nullptr);
+                     &stats, curves, scene.render.outputs.exr ? &layers : nullptr, &c.renderer);
   tally["primary_rays"] += double(stats.primaryRays);
   tally["total_rays"] += double(stats.totalRays);
   tally["trace_seconds"] += stats.seconds;
+  tally["bvh_build_seconds"] += stats.buildSeconds;
+  tally["static_builds"] += stats.staticBuilt ? 1.0 : 0.0;
   const FileStamp stamp = c.stamp("render", f);
   for (const fs::path& file : renderOutputs(c, f)) {
     if (file.extension() == ".png")
@@ -274,6 +277,8 @@ void summariseRender(const Scene& scene, const FrameTally& tally, int, nlohmann:
   stage["primary_rays"] = uint64_t(get("primary_rays"));
   stage["total_rays"] = uint64_t(get("total_rays"));
   stage["trace_seconds"] = get("trace_seconds");
+  stage["bvh_build_seconds"] = get("bvh_build_seconds");  // of trace_seconds; the static part only when rebuilt
+  stage["static_builds"] = uint64_t(get("static_builds"));
   stage["total_mrays_per_s"] = get("trace_seconds") > 0.0 ? get("total_rays") / get("trace_seconds") * 1e-6 : 0.0;
 }
 

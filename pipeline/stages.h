@@ -12,6 +12,7 @@
 #include "pipeline/run_record.h"
 #include "pipeline/scene.h"
 #include "render/image.h"
+#include "render/renderer.h"
 #include "render/surfacing.h"
 #include "sim/particles.h"
 
@@ -60,6 +61,8 @@ struct StageContext {
   const Scene& scene;
   std::filesystem::path outDir;
   std::string simHash, surfaceHash, renderHash;
+  // The render stage's: keeps the static geometry (the tank) from one frame to the next.
+  mutable render::Renderer renderer;
   // What frame f's file of `stage` must carry: {stage, that stage's hash, f}.
   FileStamp stamp(const std::string& stage, int frame) const;
 };
@@ -123,8 +126,10 @@ void encodeSceneVideo(const Scene& scene, const std::filesystem::path& outDir, i
 // Renders the surfaces, and the tubes `curves` (chainTubes() of the frame when the scene has
 // chains), with the camera at simulated time `time` (camera keys). `layers`, when given, gets
 // the frame's compositing layers with the scene's object ids (render_scene.h: objectIdOfKind).
+// `renderer`, when given, keeps the static geometry for the next frame; null: one of its own.
 render::Image renderSurfaces(const Scene& scene, const std::map<std::string, render::LevelSet>& surfaces,
                              double time = 0.0, render::RenderStats* stats = nullptr,
-                             const std::vector<render::CurveSet>& curves = {}, render::FrameLayers* layers = nullptr);
+                             const std::vector<render::CurveSet>& curves = {}, render::FrameLayers* layers = nullptr,
+                             render::Renderer* renderer = nullptr);
 
 }  // namespace kurage::pipeline

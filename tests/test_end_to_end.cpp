@@ -420,9 +420,9 @@ TEST(Tank, OnlyWallsSeenFromInsideAreDrawn) {
   }
   EXPECT_EQ(onFrontPlane, 4) << "the front wall is not drawn";
   const render::RenderScene view = pipeline::makeRenderScene(scene, 0.0);
-  ASSERT_EQ(view.meshes.size(), 1u);
-  EXPECT_EQ(view.meshes[0].mesh->triangles.size(), 6u);
-  EXPECT_GT(view.meshes[0].material.checkerSize, 0.0f);
+  ASSERT_EQ(view.staticMeshes.size(), 1u);
+  EXPECT_EQ(view.staticMeshes[0].mesh->triangles.size(), 6u);
+  EXPECT_GT(view.staticMeshes[0].material.checkerSize, 0.0f);
 }
 
 TEST(EndToEnd, QualityOptionsOverrideTheScene) {

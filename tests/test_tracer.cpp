@@ -902,3 +902,34 @@ TEST(StaticGeometry, AChangedStaticMeshOrSkyIsRebuiltNotReused) {
   scene.ground.normal = {0.05f, 0.0f, 1.0f};  // the sampler leaves out the sky below the ground
   next(3, "a tilted ground");
 }
+
+TEST(StaticGeometry, CameraKeysThatMoveTheEyePastATankWallRebuildItAndClipPlanesApply) {
+  // The tiny dam break's tank (container [0,16] x [0,5] x [0,10], walls 4 m high) drawn by the
+  // render stage's Renderer over camera keys that bring the eye from in front of the wall y = 0
+  // (not drawn: seen from outside) to inside the tank (drawn): the static part is rebuilt when,
+  // and only when, the walls drawn change; a clip plane added later cuts the kept walls. Each
+  // frame is the image a fresh renderer gives.
+  kp::Scene scene = kp::loadScene(kurage::test::sourceDir() / "tests/scenes/tiny_dam_break.json");
+  scene.render.tank.enabled = true;
+  scene.render.tank.height = 4.0f;
+  scene.render.settings = renderSettings(48, 32, 2, 4);
+  scene.render.cameraKeys = {{0.0, {8, -22, 12}, {8, 2.5f, 2}, 50.0f},
+                             {1.0, {8, -18, 12}, {8, 2.5f, 2}, 50.0f},
+                             {2.0, {8, 2, 12}, {8, 2.5f, 2}, 90.0f}};
+  kr::Renderer renderer;
+  kr::Image previous;
+  const auto frame = [&](double time, int builds, const char* what) {
+    const kr::RenderScene view = kp::makeRenderScene(scene, time);
+    const kr::Image image = renderer.render(view, scene.render.settings);
+    EXPECT_EQ(renderer.staticBuilds(), builds) << what;
+    EXPECT_TRUE(image == kr::renderFrame(view, scene.render.settings)) << what;
+    EXPECT_FALSE(image == previous) << what << " changed nothing";
+    previous = image;
+    return view.staticMeshes.at(0).mesh->triangles.size();
+  };
+  EXPECT_EQ(frame(0.0, 1, "t = 0"), 6u);
+  EXPECT_EQ(frame(0.5, 1, "t = 0.5: the camera moved, the walls did not"), 6u);
+  EXPECT_EQ(frame(2.0, 2, "t = 2: inside the tank, the front wall is drawn"), 8u);
+  scene.render.clip = {true, {8, 2.5f, 2}, {1, 0, 0}};
+  EXPECT_EQ(frame(2.0, 2, "t = 2 with the half x > 8 clipped"), 8u);
+}
