@@ -157,7 +157,19 @@ nlohmann::json SchemaWriter::base(const Field& f) const {
 }
 
 void SchemaWriter::add(const char* key, nlohmann::json schema, const Field& f) {
-  out_["properties"][key] = std::move(schema);
+  nlohmann::json& properties = out_["properties"];
+  if (properties.contains(key)) {
+    // A key two pressure solvers declare (sim::SolverParams): one type, range and default, both docs.
+    nlohmann::json& known = properties[key];
+    nlohmann::json a = known, b = schema;
+    a.erase("description");
+    b.erase("description");
+    if (a != b)
+      throw std::logic_error(std::string("schema: two declarations of \"") + key + "\" differ in type, range or default");
+    known["description"] = known["description"].get<std::string>() + "; " + schema["description"].get<std::string>();
+    return;
+  }
+  properties[key] = std::move(schema);
   if (f.required) out_["required"].push_back(key);
 }
 

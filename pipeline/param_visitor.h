@@ -8,6 +8,8 @@
 // so the loader, the schema and the defaults cannot drift apart.
 #pragma once
 
+#include "sim/param_visitor.h"
+
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
@@ -35,29 +37,19 @@ private:
   std::string file_, path_, message_;
 };
 
-struct Range {
-  std::optional<double> min, max;
-  bool minExclusive = false, maxExclusive = false;
-};
-inline Range positive() { return {0.0, std::nullopt, true, false}; }
-inline Range nonNegative() { return {0.0, std::nullopt, false, false}; }
-inline Range atLeast(double v) { return {v, std::nullopt, false, false}; }
-inline Range between(double a, double b) { return {a, b, false, false}; }
-inline Range anyValue() { return {}; }
-
-struct Field {
-  const char* unit = "";  // SI unit, or "" for dimensionless
-  const char* doc = "";
-  Range range = {};
-  bool required = false;
-};
+// The vocabulary is sim/'s (sim/param_visitor.h), so that sim/ can declare parameters of its own.
+using sim::anyValue;
+using sim::atLeast;
+using sim::between;
+using sim::EnumTable;
+using sim::Field;
+using sim::nonNegative;
+using sim::positive;
+using sim::Range;
 
 // The shortest decimal that reads back as the same float, as a double (0.3f -> 0.3), so that
 // JSON output shows the numbers a user wrote.
 double tidyFloat(float v);
-
-template <class E>
-using EnumTable = std::vector<std::pair<const char*, E>>;
 
 // ---------------------------------------------------------------------------------------------
 // Strict reader.
@@ -232,6 +224,26 @@ private:
   }
 
   nlohmann::json& out_;
+};
+
+// ---------------------------------------------------------------------------------------------
+// One of the visitors above as sim::ParamVisitor, for the parameters sim/ declares (a pressure
+// solver's describe(), sim/solvers/).
+template <class V>
+class SimParamVisitor final : public sim::ParamVisitor {
+public:
+  explicit SimParamVisitor(V& visitor) : v_(visitor) {}
+  void value(const char* key, float& ref, const Field& f) override { v_.value(key, ref, f); }
+  void value(const char* key, int& ref, const Field& f) override { v_.value(key, ref, f); }
+  void value(const char* key, bool& ref, const Field& f) override { v_.value(key, ref, f); }
+  void choice(const char* key, size_t& index, const std::vector<const char*>& names, const Field& f) override {
+    EnumTable<size_t> table;
+    for (size_t k = 0; k < names.size(); ++k) table.emplace_back(names[k], k);
+    v_.enumeration(key, index, table, f);
+  }
+
+private:
+  V& v_;
 };
 
 }  // namespace kurage::pipeline

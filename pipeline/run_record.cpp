@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <iostream>
+#include <variant>
 
 namespace kurage::pipeline {
 
@@ -50,6 +51,23 @@ void RunRecord::setStage(const std::string& name, nlohmann::json stage) { data_[
 
 void RunRecord::save() const { writeTextAtomic(path_, data_.dump(2) + "\n"); }
 
+namespace {
+// The solver's own report (sim::SolverReport) into run.json's `out`, each '.' in a key a nested
+// object, and its warnings on stderr.
+void addSolverReport(nlohmann::json& out, const sim::PressureSolver& solver) {
+  sim::SolverReport report;
+  solver.report(report);
+  for (const auto& [key, value] : report.entries) {
+    std::string pointer = "/" + key;
+    std::replace(pointer.begin(), pointer.end(), '.', '/');
+    std::visit([&](const auto& v) { out[nlohmann::json::json_pointer(pointer)] = v; }, value);
+  }
+  for (const sim::SolverWarning& w : solver.warnings())
+    std::cerr << "kurage: warning: " << w.message << "; see run.json stages.sim.solver"
+              << (w.reportKey.empty() ? "" : "." + w.reportKey) << "\n";
+}
+}  // namespace
+
 void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation& simulation, const BodyTrack& track,
                     const SimStageRun& run) {
   const sim::SimStats& stats = simulation.stats();
@@ -68,47 +86,13 @@ void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation
                           {"share", stepSeconds > 0.0 ? stats.stageSeconds[s] / stepSeconds : 0.0},
                           {"calls", stats.stageCalls[s]}};
     }
-  const sim::SolverStats& ss = simulation.solver().stats();
-  const double solverSteps = std::max<double>(1.0, double(ss.steps));
   nlohmann::json solver = {
-      {"name", scene.sim.fluid.solver},
+      {"name", scene.sim.fluid.solver.name()},
       {"mean_density_error", stats.steps ? stats.densityErrorSum / double(stats.steps) : 0.0},
       {"max_density_error", stats.densityErrorMax},
       {"density_error_note", "compression measured by each step's density pass: mean over fluid particles of "
                              "max(rho - rho0, 0) / rho0; the run's mean and largest (fractions)"}};
-  if (!simulation.solver().pressureInForces()) {
-    solver["density_solve"] = {{"mean_iterations", double(ss.densityIterations) / solverSteps},
-                               {"max_iterations", ss.maxDensityIterations},
-                               {"cap", scene.sim.fluid.maxIterations},
-                               {"cap_hits", ss.densityCapHits},
-                               {"final_error", ss.lastDensityError},
-                               {"mean_final_error", ss.sumDensityError / solverSteps},
-                               {"max_final_error", ss.maxDensityError},
-                               {"tolerance", 0.01 * scene.sim.fluid.maxDensityError}};
-    solver["divergence_solve"] = {{"method", scene.sim.fluid.divergenceSolve == sim::DivergenceSolve::Jacobi ? "jacobi" : "cg"},
-                                  {"mean_iterations", double(ss.divergenceIterations) / solverSteps},
-                                  {"max_iterations", ss.maxDivergenceIterations},
-                                  {"cap", scene.sim.fluid.maxDivergenceIterations},
-                                  {"cap_hits", ss.divergenceCapHits},
-                                  {"final_error", ss.lastDivergenceError},
-                                  {"tolerance", 0.01 * scene.sim.fluid.maxDivergenceError}};
-    solver["torn_body_particles"] = {
-        {"steps", ss.tornSteps},
-        {"max_at_once", ss.maxTorn},
-        {"note", "telescopic body particles stretched until their rest density fell below a quarter of its "
-                 "initial value, left out of the solves' unknowns (docs/PHYSICS.md, Bodies under DFSPH)"}};
-    if (ss.tornSteps)
-      std::cerr << "kurage: warning: in " << ss.tornSteps << " of " << ss.steps << " steps (up to " << ss.maxTorn
-                << " at once) telescopic body particles were stretched below a quarter of their rest density and "
-                   "left out of the " << scene.sim.fluid.solver << " solver's unknowns; see run.json "
-                   "stages.sim.solver.torn_body_particles\n";
-    if (ss.densityCapHits || ss.divergenceCapHits)
-      std::cerr << "kurage: warning: the " << scene.sim.fluid.solver << " solver stopped at its iteration cap in "
-                << ss.densityCapHits << " density and " << ss.divergenceCapHits << " divergence solves of "
-                << ss.steps << " steps (fluid.max_iterations " << scene.sim.fluid.maxIterations
-                << ", fluid.max_divergence_iterations " << scene.sim.fluid.maxDivergenceIterations
-                << "): the density error there is above the tolerance; see run.json stages.sim.solver\n";
-  }
+  addSolverReport(solver, simulation.solver());
   if (const sim::BoundaryParticles* bp = simulation.boundaryParticles()) solver["boundary_particles"] = bp->size();
   // fluid.kernel as run ("auto" resolved)
   solver["kernel"] = simulation.params().fluid.kernel == sim::SphKernel::CubicSpline ? "cubic_spline" : "mueller2003";

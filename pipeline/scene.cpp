@@ -109,11 +109,8 @@ void validate(const Scene& scene, const std::string& file) {
       << vec(box.max - box.min);
     fail("container.wall_density", s.str());
   }
-  if (sim.fluid.solver == "dfsph" && sim.fluid.kernel == sim::SphKernel::Mueller2003)
-    fail("fluid.kernel", "dfsph's solves use the cubic spline: 'cubic_spline' or 'auto', got \"mueller2003\"");
-  if (sim.fluid.gradientCorrection && sim.fluid.solver == "wcsph" && sim.fluid.pressureForce == sim::PressureForce::Mueller2003)
-    fail("fluid.gradient_correction", "corrects Monaghan's pressure force (fluid.pressure_force \"monaghan1992\") or "
-                                      "dfsph's solves; the paper's force \"mueller2003\" has no corrected form");
+  if (const std::optional<sim::ParamProblem> problem = sim::pressureSolverProblem(sim.fluid))
+    fail(problem->key, problem->message);
   if ((box.max - box.min).minCoeff() < h) {
     std::ostringstream s;
     s << "the container is smaller than the support radius h = " << h << " m on some axis (size "

@@ -23,11 +23,10 @@ inline const EnumTable<sim::WallDensity> kWallDensity{{"none", sim::WallDensity:
 inline const EnumTable<sim::SphKernel> kSphKernel{{"auto", sim::SphKernel::Auto},
                                                   {"mueller2003", sim::SphKernel::Mueller2003},
                                                   {"cubic_spline", sim::SphKernel::CubicSpline}};
-inline const EnumTable<sim::DivergenceSolve> kDivergenceSolve{{"jacobi", sim::DivergenceSolve::Jacobi},
-                                                              {"cg", sim::DivergenceSolve::ConjugateGradient}};
 inline const EnumTable<sim::InitialState> kInitialState{{"lattice", sim::InitialState::Lattice},
                                                         {"hydrostatic", sim::InitialState::Hydrostatic}};
-// The pressure solvers' names come from their registry (sim/solvers/registry.cpp).
+// The pressure solvers' names and their documentation come from their registry
+// (sim/solvers/registry.cpp), their parameters from their own describe() (sim/solvers/<name>/).
 inline const EnumTable<std::string>& solverTable() {
   static const EnumTable<std::string> table = [] {
     EnumTable<std::string> t;
@@ -35,6 +34,26 @@ inline const EnumTable<std::string>& solverTable() {
     return t;
   }();
   return table;
+}
+inline const char* solverDoc() {
+  static const std::string doc = [] {
+    const std::vector<std::string>& summaries = sim::pressureSolverSummaries();
+    std::string d = "pressure solver: ";
+    for (size_t k = 0; k < summaries.size(); ++k)
+      d += (k == 0 ? "" : k + 1 == summaries.size() ? " or " : ", ") + summaries[k];
+    return d;
+  }();
+  return doc.c_str();
+}
+// The scene's solver's parameters (keys of `fluid`); the schema has every solver's.
+template <class V>
+void describeSolverParams(V& v, sim::SolverChoice& solver) {
+  SimParamVisitor<V> adapter(v);
+  solver.params().describe(adapter);
+}
+inline void describeSolverParams(SchemaWriter& v, sim::SolverChoice&) {
+  SimParamVisitor<SchemaWriter> adapter(v);
+  for (const std::string& name : sim::pressureSolverNames()) sim::makeSolverParams(name)->describe(adapter);
 }
 inline const EnumTable<sim::TimeStepMode> kTimeStepMode{{"fixed", sim::TimeStepMode::Fixed},
                                                         {"adaptive", sim::TimeStepMode::Adaptive}};
@@ -66,35 +85,18 @@ void describe(V& v, sim::FluidParams& p) {
   v.enumeration("kernel", p.kernel, kSphKernel,
                 {"", "the SPH kernels: 'mueller2003' (the paper's: poly6 in the density sum, spiky in the pressure "
                      "force; wcsph only), 'cubic_spline' (one cubic spline for both, so the pressure force is the "
-                     "gradient of the density's energy), or 'auto': the solver's own (dfsph: cubic_spline; wcsph: "
-                     "mueller2003), but cubic_spline for wcsph with boundary_particles walls, where the paper's pair "
-                     "let a still tank gain energy (docs/PHYSICS.md)"});
-  v.enumeration("solver", p.solver, solverTable(),
-                {"", "pressure solver: 'wcsph' (the paper: p = k_press (rho - rho0), a weakly compressible fluid "
-                     "whose compression depends on k_press) or 'dfsph' (divergence-free SPH, Bender & Koschier 2017: "
-                     "incompressible to max_density_error, whatever the step; uses the cubic spline kernel, "
-                     "support_radius 2 recommended; 3 closer to Martin & Moyce in a deep slice, at about 2.5 times "
-                     "the cost, docs/VALIDATION.md)"});
-  v.value("max_density_error", p.maxDensityError,
-          {"%", "dfsph: the constant-density solve iterates until the mean compression is below this, in percent "
-                "of the rest density", positive()});
-  v.value("max_divergence_error", p.maxDivergenceError,
-          {"%", "dfsph: the divergence solve iterates until the mean density change over one step is below this, "
-                "in percent of the rest density", positive()});
-  v.value("max_iterations", p.maxIterations,
-          {"", "dfsph: iteration cap of the constant-density solve (a step that reaches it is counted in "
-               "run.json and warned about)", atLeast(1)});
-  v.value("max_divergence_iterations", p.maxDivergenceIterations,
-          {"", "dfsph: iteration cap of the divergence solve", atLeast(1)});
-  v.enumeration("divergence_solve", p.divergenceSolve, kDivergenceSolve,
-                {"", "dfsph: how the divergence solve iterates: 'jacobi' (relaxed Jacobi, as Bender & Koschier) or "
-                     "'cg' (preconditioned conjugate gradients on the same equations: about half the iterations "
-                     "for the same tolerance; docs/PHYSICS.md says what else changes)"});
+                     "gradient of the density's energy), or 'auto': the solver's own (cubic_spline; wcsph: mueller2003, "
+                     "but cubic_spline with boundary_particles walls, where the paper's pair let a still tank gain "
+                     "energy, docs/PHYSICS.md)"});
+  std::string solver = p.solver.name();
+  v.enumeration("solver", solver, solverTable(), {"", solverDoc()});
+  if (solver != p.solver.name()) p.solver = sim::SolverChoice(solver);  // read from the scene
+  describeSolverParams(v, p.solver);
   v.enumeration("initial_state", p.initialState, kInitialState,
                 {"", "'lattice': fluid blocks start on the rest lattice without pressure, so a column falls until "
                      "its pressure holds it; 'hydrostatic': they start at rest in hydrostatic equilibrium "
-                     "(dfsph: the solver's pressure starts at rho0 g depth; wcsph: the lattice is compressed to "
-                     "the density whose pressure carries the column)"});
+                     "(a solver that keeps its pressure from step to step starts from rho0 g depth; wcsph: the "
+                     "lattice is compressed to the density whose pressure carries the column)"});
   v.value("gradient_correction", p.gradientCorrection,
           {"", "correct each particle's kernel gradient (Bonet & Lok 1999) so that a linear pressure field's "
                "gradient is exact on a disordered neighbourhood: WCSPH's force with 'monaghan1992', or DFSPH's "

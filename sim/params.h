@@ -7,7 +7,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
+#include <stdexcept>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 namespace kurage::sim {
@@ -46,14 +50,42 @@ enum class InitialState {
   Lattice,      // every particle on the rest lattice with zero pressure: a column falls until its
                 // pressure holds it (the paper's start)
   Hydrostatic,  // at rest in hydrostatic equilibrium: the solver's initial pressure is rho0 g depth
-                // (DFSPH's warm start; WCSPH: the lattice compressed to the density its equation of
-                // state needs for that pressure)
+                // (PressureSolver::hydrostaticLattice and hydrostaticHead: DFSPH's warm start; WCSPH: the
+                // lattice compressed to the density its equation of state needs for that pressure)
 };
 
-// How DFSPH's divergence solve iterates (sim/solvers/dfsph.h).
-enum class DivergenceSolve {
-  Jacobi,             // relaxed Jacobi, as Bender & Koschier 2017 (the default)
-  ConjugateGradient,  // preconditioned conjugate gradients on the same equations (ours)
+class SolverParams;  // sim/solvers/pressure_solver.h
+
+// fluid.solver: a pressure solver's name and its own parameters (sim/solvers/<name>/), a value
+// (copies copy the parameters). A name not in pressureSolverNames() is std::invalid_argument.
+class SolverChoice {
+public:
+  SolverChoice(const char* name = "wcsph");
+  SolverChoice(const std::string& name);
+  SolverChoice(const SolverChoice& other);
+  SolverChoice(SolverChoice&& other) noexcept;
+  SolverChoice& operator=(const SolverChoice& other);
+  SolverChoice& operator=(SolverChoice&& other) noexcept;
+  ~SolverChoice();
+
+  const std::string& name() const { return name_; }
+  SolverParams& params() { return *params_; }
+  const SolverParams& params() const { return *params_; }
+  // The parameters as the solver's own type (std::logic_error for another solver's).
+  template <class P>
+  P& as() {
+    return const_cast<P&>(std::as_const(*this).template as<P>());
+  }
+  template <class P>
+  const P& as() const {
+    if (const P* p = dynamic_cast<const P*>(params_.get())) return *p;
+    throw std::logic_error("fluid.solver is \"" + name_ + "\", not the solver of these parameters");
+  }
+  friend bool operator==(const SolverChoice& a, std::string_view name) { return a.name_ == name; }
+
+private:
+  std::string name_;
+  std::unique_ptr<SolverParams> params_;
 };
 
 enum class DensitySum {
@@ -65,8 +97,8 @@ enum class DensitySum {
 
 // The SPH kernels of the density sum and of the pressure gradient.
 enum class SphKernel {
-  Auto,         // the solver's own (DFSPH: the cubic spline; WCSPH: the paper's), except WCSPH with
-                // boundary-particle walls: the cubic spline (docs/PHYSICS.md, "Walls under WCSPH")
+  Auto,         // the solver's own for the walls (PressureSolver::ownKernel: the cubic spline, but the
+                // paper's for WCSPH without boundary-particle walls; docs/PHYSICS.md, "Walls under WCSPH")
   Mueller2003,  // the paper's: poly6 in the density sum (3), spiky in the pressure force (5) (WCSPH only)
   CubicSpline,  // one cubic spline for both, so the pressure force is the gradient of the density's energy
 };
@@ -82,23 +114,15 @@ struct FluidParams {
   // Correct each particle's kernel gradient with L_i = (sum_j V_j grad W_ij (x) (r_j - r_i))^-1
   // (Bonet & Lok 1999), so that the gradient of a linear pressure field is exact on any
   // neighbourhood: WCSPH's Monaghan1992 force, symmetrised as (L_i + L_j) / 2 (Mueller2003 has no
-  // corrected form: a scene error), or DFSPH's density rate and push (sim/solvers/dfsph.h).
+  // corrected form: a scene error), or DFSPH's density rate and push (sim/solvers/dfsph/dfsph.h).
   // Particles within h of a wall or with a degenerate neighbourhood (free surface) keep the plain
   // gradient.
   bool gradientCorrection = false;
   DensitySum densitySum = DensitySum::Mass;
   SphKernel kernel = SphKernel::Auto;  // resolved by resolvedKernel() before a simulation starts
-  // The pressure solver (sim/solvers/): "wcsph" (the paper's equation of state (4)) or "dfsph"
-  // (divergence-free SPH, Bender & Koschier 2015/2017). Names: sim::pressureSolverNames().
-  std::string solver = "wcsph";
-  // DFSPH: iterate the constant-density solve until the mean density error is below this
-  // (percent of rho0), and the divergence solve until the mean density change over one step is
-  // below max_divergence_error (percent of rho0); each at most its iteration cap.
-  float maxDensityError = 0.1f;
-  float maxDivergenceError = 0.1f;
-  int maxIterations = 100;
-  int maxDivergenceIterations = 100;
-  DivergenceSolve divergenceSolve = DivergenceSolve::Jacobi;
+  // The pressure solver and its parameters (sim/solvers/): "wcsph" (the paper's equation of state
+  // (4)), "dfsph" (divergence-free SPH, Bender & Koschier 2015/2017), ... (pressureSolverNames()).
+  SolverChoice solver;
   InitialState initialState = InitialState::Lattice;
 
   float supportRadiusMetres() const { return supportRadius * spacing; }
@@ -232,7 +256,7 @@ enum class BodyCoupling {
              // coupling computes body particles like fluid ones
   Boundary,  // DFSPH: no unknowns; the fluid meets them as boundary samples of volume m_i / rho0_i
              // (Akinci et al. 2012, with (10)'s telescopic volume), and each one's pressure reaction
-             // is spread over its spring patch (sim/solvers/dfsph.h)
+             // is spread over its spring patch (sim/solvers/dfsph/dfsph.h)
 };
 
 // What the rest density (10) follows (SPEC §3.3).

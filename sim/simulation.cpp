@@ -108,6 +108,7 @@ Simulation::Simulation(SimParams params)
     throw std::invalid_argument("simulation: spacing, support radius and rest density must be > 0");
   params_.fluid.kernel = resolvedKernel(params_.fluid, params_.container.wallDensity);
   solver_ = makePressureSolver(fluid);
+  needs_ = solver_->needs();
   grid_.configure(params_.container.min, params_.container.max, fluid.supportRadiusMetres());
   fluidMass_ = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity,
                                       solver_->densityKernel());
@@ -121,11 +122,9 @@ Simulation::Simulation(SimParams params)
   }
   wallSums_.box = params_.container;
   wallSums_.restDensity = fluid.restDensity;
-  if (boundary_ && solver_->pressureInForces()) {
-    // WCSPH's walls of boundary particles (fluid.h, docs/PHYSICS.md "Walls under WCSPH"): as stiff
-    // as the fluid, k = c^2 / l^2, holding the first layer at its lattice place, half a spacing in.
-    wallSums_.penaltyStiffness = fluid.pressureStiffness / (fluid.spacing * fluid.spacing);
-    wallSums_.penaltyRest = 0.5f * fluid.spacing;
+  if (boundary_) {
+    wallSums_.penaltyStiffness = needs_.wallPenaltyStiffness;
+    wallSums_.penaltyRest = needs_.wallPenaltyRest;
   }
   std::vector<std::vector<Eigen::Vector3f>> blockPoints;
   size_t expected = 0;
@@ -142,22 +141,7 @@ Simulation::Simulation(SimParams params)
   }
   const float g = -params_.gravity.z();
   const bool hydrostatic = fluid.initialState == InitialState::Hydrostatic && g > 0.0f;
-  if (hydrostatic && solver_->pressureInForces()) {
-    // WCSPH: the lattice compressed vertically to the density whose pressure carries the column,
-    // rho(d) = rho0 (1 + f g d / k) with f = 1 (Monaghan's force) or 2 ((5) recovers half of grad p).
-    // A layer at height z above the block's floor z_b moves to
-    // z_b + int_{z_b}^{z} rho0 / rho(d(z')) dz' = z_b + (k / (f g)) ln((1 + a d_b) / (1 + a d)),
-    // a = f g / k, d = top - z (the uncompressed depth: the error is second order in a d).
-    const float f = fluid.pressureForce == PressureForce::Mueller2003 ? 2.0f : 1.0f;
-    const float a = f * g / fluid.pressureStiffness;
-    for (size_t b = 0; b < blockPoints.size(); ++b) {
-      float bottom = std::numeric_limits<float>::infinity();
-      for (const Eigen::Vector3f& q : blockPoints[b]) bottom = std::min(bottom, q.z());
-      const float db = tops[b] - bottom;
-      for (Eigen::Vector3f& q : blockPoints[b])
-        q.z() = bottom + std::log((1.0f + a * db) / (1.0f + a * (tops[b] - q.z()))) / a;
-    }
-  }
+  if (hydrostatic) solver_->hydrostaticLattice(blockPoints, tops, g);
   for (const EmitterParams& e : params_.emitters) {
     emitters_.emplace_back(e, fluid.spacing);
     expected += emitters_.back().expectedTotal();
@@ -171,17 +155,16 @@ Simulation::Simulation(SimParams params)
     removeDisplacedFluid(particles_, fluid.spacing, params_.bodies, blockPoints);
   }
   particles_.reserve(particles_.size() + expected);
-  std::vector<float> piById;
+  std::vector<float> headById;  // g depth, m^2/s^2 (PressureSolver::hydrostaticHead)
   for (size_t b = 0; b < blockPoints.size(); ++b)
     for (const Eigen::Vector3f& q : blockPoints[b]) {
-      if (hydrostatic && !solver_->pressureInForces()) {
-        // DFSPH: the solver starts from p = rho0 g depth (pi = p / rho0^2, its warm start).
-        piById.resize(size_t(nextId_) + 1, 0.0f);
-        piById[size_t(nextId_)] = g * std::max(tops[b] - q.z(), 0.0f) / fluid.restDensity;
+      if (hydrostatic) {
+        headById.resize(size_t(nextId_) + 1, 0.0f);
+        headById[size_t(nextId_)] = g * std::max(tops[b] - q.z(), 0.0f);
       }
       particles_.add(q.x(), q.y(), q.z(), 0, 0, 0, fluid.restDensity, fluidMass_, nextId_++, 0);
     }
-  if (!piById.empty()) solver_->setInitialPressure(piById);
+  if (!headById.empty()) solver_->hydrostaticHead(headById);
 }
 
 SolverContext Simulation::solverContext() {
@@ -236,12 +219,11 @@ void Simulation::computeBoundaryTerms() {
   boundaryLift_.resize(3 * n);
   const Eigen::Vector3f gravity = params_.gravity;
   const bool cubic = solver_->densityKernel() == DensityKernel::CubicSpline;
-  const bool lifts = !solver_->pressureInForces();
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 2048), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       Eigen::Vector3f grad, lift = Eigen::Vector3f::Zero();
-      // The hydrostatic sum only for a solver that reads it (DFSPH; WCSPH's walls: fluid.h)
-      Eigen::Vector3f* hydrostatic = lifts ? &lift : nullptr;
+      // The hydrostatic sum only for a solver that reads it (StepNeeds::wallSums)
+      Eigen::Vector3f* hydrostatic = needs_.wallSums ? &lift : nullptr;
       if (cubic) boundary_->sums(cubic_, cubic_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, hydrostatic);
       else boundary_->sums(poly6_, spiky_, p.x[i], p.y[i], p.z[i], boundaryVolume_[i], grad, &gravity, hydrostatic);
       boundaryGradient_[3 * i] = grad.x(); boundaryGradient_[3 * i + 1] = grad.y(); boundaryGradient_[3 * i + 2] = grad.z();
@@ -311,12 +293,12 @@ void Simulation::computeAccelerations() {
     StageTimer timer(stats_, Stage::Pressure);
     if (solverCorrectsGradient())
       computeGradientCorrection(neighbors_, particles_, GradientKernel{&spiky_, &cubic_}, params_.container, correction_);
-    solver_->afterDensity(solverContext());  // (4), or DFSPH's factors and divergence solve
+    solver_->afterDensity(solverContext());  // (4), or DFSPH's factors and divergence solve, ...
   }
   {
     StageTimer timer(stats_, Stage::Forces);
     const float mu = params_.fluid.restDensity * params_.fluid.kinematicViscosity;  // mu = rho0 nu
-    const bool pressure = solver_->pressureInForces();
+    const bool pressure = needs_.pressureForce;
     const bool correct = pressure && params_.fluid.gradientCorrection &&
                          params_.fluid.pressureForce == PressureForce::Monaghan1992;
     const GradientKernel kernel{&spiky_, solver_->densityKernel() == DensityKernel::CubicSpline ? &cubic_ : nullptr};
@@ -349,9 +331,9 @@ void Simulation::integrate(float dt, double newTime) {
       }
     });
   }
-  if (!solver_->pressureInForces()) {
+  if (needs_.correctsVelocities) {
     StageTimer timer(stats_, Stage::DensitySolve);
-    solver_->correctVelocities(solverContext(), dt);  // DFSPH: v* made density-preserving
+    solver_->correctVelocities(solverContext(), dt);  // v* made density-preserving (DFSPH, IISPH)
   }
   {
     StageTimer timer(stats_, Stage::Integrate);

@@ -109,16 +109,16 @@ public:
 private:
   void sortParticles();
   void computeBoundaryTerms();
-  // DFSPH with wall weights: boundaryGradient_ and boundaryLift_ from the walls' tables.
+  // Wall weights under a solver that needs the walls' sums: boundaryGradient_ and boundaryLift_
+  // from the walls' tables.
   void computeWallWeightGradient();
-  bool wallWeightTerms() const { return wallWeights_ && !solver_->pressureInForces(); }
-  // fluid.gradient_correction under a solver that pushes in its own solves (DFSPH): its L_i in
-  // correction_, computed before the solver's first pass and handed to it in the context.
-  bool solverCorrectsGradient() const { return params_.fluid.gradientCorrection && !solver_->pressureInForces(); }
+  bool wallWeightTerms() const { return wallWeights_ && needs_.wallSums; }
+  // fluid.gradient_correction under a solver that pushes in its own solves (StepNeeds): its L_i
+  // in correction_, computed before the solver's first pass and handed to it in the context.
+  bool solverCorrectsGradient() const { return params_.fluid.gradientCorrection && needs_.gradientCorrection; }
   void measureDensityError();
   void computeAccelerations();
   SolverContext solverContext();
-  void startHydrostatic(const std::vector<std::vector<Eigen::Vector3f>>& blocks, size_t firstFluid);
   void addBodyForces(float dt);
   void integrate(float dt, double newTime);
 
@@ -133,11 +133,12 @@ private:
   ViscosityKernel viscosity_;
   CubicSplineKernel cubic_;
   std::unique_ptr<PressureSolver> solver_;
+  StepNeeds needs_;  // solver_->needs()
   std::unique_ptr<BoundaryParticles> boundary_;
   std::vector<float> boundaryVolume_;    // per particle: sum_b V_b W_ib (density kernel)
   std::vector<float> boundaryGradient_;  // per particle, 3 floats: sum_b V_b grad W_ib (solver's gradient)
   std::vector<float> boundaryLift_;      // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
-  // (both also DFSPH's from the wall weights: computeWallWeightGradient)
+  // (both also from the wall weights, when the solver needs them: computeWallWeightGradient)
   float lastStep_ = 0.0f;
   std::vector<double> errorPartial_;     // per chunk sums of measureDensityError()
   std::unique_ptr<WallWeights> wallWeights_;

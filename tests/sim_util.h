@@ -1,9 +1,11 @@
-// Helpers shared by the simulation tests: a particle set's kinetic energy, its positions by id and
-// a plain box body.
+// Helpers shared by the simulation tests: a particle set's kinetic energy, its positions by id,
+// a plain box body and DFSPH's statistics.
 #pragma once
 
 #include "sim/params.h"
 #include "sim/particles.h"
+#include "sim/simulation.h"
+#include "sim/solvers/dfsph/dfsph.h"
 
 #include <Eigen/Core>
 
@@ -26,6 +28,11 @@ inline std::vector<std::array<float, 4>> positionsById(const sim::ParticleSet& p
   for (size_t i = 0; i < p.size(); ++i) out.push_back({float(p.id[i]), p.x[i], p.y[i], p.z[i]});
   std::sort(out.begin(), out.end());
   return out;
+}
+
+// The statistics of a simulation run by DFSPH.
+inline const sim::DfsphStats& dfsphStats(const sim::Simulation& s) {
+  return dynamic_cast<const sim::DfsphSolver&>(s.solver()).stats();
 }
 
 // A box-shaped body named "box" over [min, max], every other parameter at its default.

@@ -61,14 +61,18 @@ TEST(CubicSpline, IntegratesToOneAndItsGradientMatchesFiniteDifferences) {
   EXPECT_EQ(w.derivative(1.3f), 0.0f);
 }
 
-TEST(SolverRegistry, NamesBothSolversAndRefusesOthers) {
+TEST(SolverRegistry, NamesTheSolversAndRefusesOthers) {
   const auto& names = pressureSolverNames();
   EXPECT_NE(std::find(names.begin(), names.end(), "wcsph"), names.end());
   EXPECT_NE(std::find(names.begin(), names.end(), "dfsph"), names.end());
   FluidParams f;
-  f.solver = "iisph";
-  EXPECT_THROW(makePressureSolver(f), std::invalid_argument);
+  EXPECT_THROW(f.solver = "pcisph", std::invalid_argument);
+  EXPECT_THROW(f.solver.as<DfsphParams>(), std::logic_error) << "WCSPH's parameters are not DFSPH's";
   f.solver = "dfsph";
+  EXPECT_EQ(f.solver.as<DfsphParams>().maxIterations, 100);
+  FluidParams copy = f;
+  copy.solver.as<DfsphParams>().maxIterations = 3;
+  EXPECT_EQ(f.solver.as<DfsphParams>().maxIterations, 100) << "a copy owns its parameters";
   EXPECT_EQ(makePressureSolver(f)->name(), "dfsph");
   EXPECT_EQ(makePressureSolver(f)->densityKernel(), DensityKernel::CubicSpline);
   // fluid.kernel "auto": DFSPH's own, the paper's for WCSPH, but the cubic spline for WCSPH with
@@ -200,8 +204,8 @@ TEST_P(HydrostaticTank, SettledSurfaceAndInteriorPressure) {
   SimParams params = jellyfishTank(c.solver, c.spacing);
   params.fluid.gradientCorrection = c.corrected;
   if (c.calm) {
-    params.fluid.divergenceSolve = DivergenceSolve::ConjugateGradient;
-    params.fluid.maxDivergenceError = 0.01f;
+    params.fluid.solver.as<DfsphParams>().divergenceSolve = DivergenceSolve::ConjugateGradient;
+    params.fluid.solver.as<DfsphParams>().maxDivergenceError = 0.01f;
   }
   Simulation sim(params);
   // The free surface against the filled height, 20 m; each slab's depth below the sample's free
@@ -309,7 +313,7 @@ TEST(Dfsph, TheSolvesConserveMomentumWithAndWithoutTheGradientCorrection) {
     sim.advanceTo(0.2);
     Eigen::Vector3d after = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < s.size(); ++i) after += double(s.mass[i]) * Eigen::Vector3d(s.vx[i], s.vy[i], s.vz[i]);
-    const SolverStats& stats = sim.solver().stats();
+    const DfsphStats& stats = kurage::test::dfsphStats(sim);
     ASSERT_GT(stats.steps, 3u);
     ASSERT_GT(stats.densityIterations, 0u) << "the squeeze must call on the pressure";
     EXPECT_LT((after - momentum).norm(), 1e-6 * scale) << (corrected ? "corrected" : "plain");
@@ -322,7 +326,7 @@ TEST(Dfsph, OneAndTwoThreadsGiveIdenticalParticles) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
     SimParams p = jellyfishTank("dfsph", 1.0f, InitialState::Lattice);
     p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);  // a dam break in the tank
-    p.fluid.divergenceSolve = method;
+    p.fluid.solver.as<DfsphParams>().divergenceSolve = method;
     p.fluid.gradientCorrection = corrected;
     Simulation sim(p);
     sim.advanceTo(1.0);
@@ -348,11 +352,11 @@ TEST(Dfsph, ConjugateGradientDivergenceSolveNeedsFewerIterations) {
   auto run = [](DivergenceSolve method, bool corrected = false) {
     SimParams p = jellyfishTank("dfsph", 1.0f, InitialState::Lattice);
     p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);
-    p.fluid.divergenceSolve = method;
+    p.fluid.solver.as<DfsphParams>().divergenceSolve = method;
     p.fluid.gradientCorrection = corrected;
     Simulation sim(p);
     sim.advanceTo(2.0);
-    const SolverStats& s = sim.solver().stats();
+    const DfsphStats& s = kurage::test::dfsphStats(sim);
     EXPECT_EQ(s.divergenceCapHits, 0u);
     EXPECT_LE(s.lastDivergenceError, 0.001 + 1e-9);
     return double(s.divergenceIterations) / double(s.steps);
@@ -370,7 +374,7 @@ TEST(Dfsph, ReachesItsToleranceOnADamBreak) {
   p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);
   Simulation sim(p);
   sim.advanceTo(2.0);
-  const SolverStats& s = sim.solver().stats();
+  const DfsphStats& s = kurage::test::dfsphStats(sim);
   EXPECT_GT(s.densityIterations, 0u);
   EXPECT_EQ(s.densityCapHits, 0u);
   EXPECT_EQ(s.divergenceCapHits, 0u);
@@ -386,7 +390,7 @@ TEST(Dfsph, AWiderSupportKeepsTheSolveConvergent) {
   p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);
   Simulation sim(p);
   ASSERT_NO_THROW(sim.advanceTo(1.0));
-  const SolverStats& s = sim.solver().stats();
+  const DfsphStats& s = kurage::test::dfsphStats(sim);
   EXPECT_EQ(s.densityCapHits, 0u);
   EXPECT_LE(s.maxDensityError, 0.001 + 1e-9);
 }

@@ -36,16 +36,27 @@ struct BadScene {
 std::ostream& operator<<(std::ostream& os, const BadScene& s) { return os << s.name; }
 
 const BadScene kBadScenes[] = {
-    {"UnknownSolver", [](json& s) { s["fluid"]["solver"] = "iisph"; }, "fluid.solver",
-     "must be one of \"wcsph\", \"dfsph\", got \"iisph\""},
-    {"ZeroDensityTolerance", [](json& s) { s["fluid"]["max_density_error"] = 0; }, "fluid.max_density_error",
-     "must be > 0, got 0"},
-    {"NegativeDivergenceTolerance", [](json& s) { s["fluid"]["max_divergence_error"] = -1; },
-     "fluid.max_divergence_error", "must be > 0, got -1"},
-    {"ZeroIterationCap", [](json& s) { s["fluid"]["max_iterations"] = 0; }, "fluid.max_iterations",
-     "must be >= 1, got 0"},
-    {"UnknownDivergenceSolve", [](json& s) { s["fluid"]["divergence_solve"] = "gmres"; }, "fluid.divergence_solve",
-     "must be one of \"jacobi\", \"cg\", got \"gmres\""},
+    {"UnknownSolver", [](json& s) { s["fluid"]["solver"] = "pcisph"; }, "fluid.solver",
+     "must be one of \"wcsph\", \"dfsph\""},
+    {"ZeroDensityTolerance", [](json& s) {
+       s["fluid"]["solver"] = "dfsph";
+       s["fluid"]["max_density_error"] = 0;
+     }, "fluid.max_density_error", "must be > 0, got 0"},
+    {"NegativeDivergenceTolerance", [](json& s) {
+       s["fluid"]["solver"] = "dfsph";
+       s["fluid"]["max_divergence_error"] = -1;
+     }, "fluid.max_divergence_error", "must be > 0, got -1"},
+    {"ZeroIterationCap", [](json& s) {
+       s["fluid"]["solver"] = "dfsph";
+       s["fluid"]["max_iterations"] = 0;
+     }, "fluid.max_iterations", "must be >= 1, got 0"},
+    {"UnknownDivergenceSolve", [](json& s) {
+       s["fluid"]["solver"] = "dfsph";
+       s["fluid"]["divergence_solve"] = "gmres";
+     }, "fluid.divergence_solve", "must be one of \"jacobi\", \"cg\", got \"gmres\""},
+    // A solver's keys are read only under that solver: elsewhere they would be ignored.
+    {"DfsphKeyUnderWcsph", [](json& s) { s["fluid"]["divergence_solve"] = "cg"; }, "fluid.divergence_solve",
+     "unknown key"},
     {"DfsphWithThePapersKernels", [](json& s) {
        s["fluid"]["solver"] = "dfsph";
        s["fluid"]["kernel"] = "mueller2003";

@@ -6,19 +6,21 @@
 // excluded), then times `--steps` adaptive steps and reports the mean neighbour count, ms per
 // step by stage and particle-steps per second. `--solver dfsph` (or `all`) adds rows for DFSPH
 // at the scene default tolerance (0.1 % mean density error) with boundary-particle walls, h = 2 l
-// only (its cubic spline kernel needs the larger support), with its mean iterations per step;
-// `dfsph-cg` (in `all` too) the same with the divergence solve by conjugate gradients, `dfsph-gc`
-// (not in `all`) with fluid.gradient_correction (Bonet & Lok's corrected kernel gradient),
-// `dfsph-calm` (not in `all`) with both and the divergence tolerance at 0.01 %: the still tank's
-// "calm and corrected" setting, which scenes/jellyfish.json uses. Every row
+// only (its cubic spline kernel needs the larger support), with its mean iterations per step
+// (in all, and by solve); `dfsph-cg` (in `all` too) the same with the divergence solve by
+// conjugate gradients, `dfsph-gc` (not in `all`) with fluid.gradient_correction (Bonet & Lok's
+// corrected kernel gradient), `dfsph-calm` (not in `all`) with both and the divergence tolerance
+// at 0.01 %: the still tank's "calm and corrected" setting, which scenes/jellyfish.json uses.
+// Every row
 // also reports simulated seconds per wall second and the measured mean compression. `--cfl` and
 // `--pressure-factor` set time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each, as in
 // scenes), since the largest step a solver can take is part of its cost; `--warmup-time` warms up
 // to a simulated time instead of a step count, and `--duration` times a simulated window instead
 // of a step count, so that solvers stepping differently are timed over the same part of the
-// collapse; `--max-density-error` sets DFSPH's tolerance, so that each solver can be timed at its
-// cheapest setting within a measured compression.
+// collapse; `--max-density-error` sets the incompressible solvers' tolerance, so that each solver
+// can be timed at its cheapest setting within a measured compression.
 #include "pipeline/commands/cli.h"
+#include "pipeline/scene_params.h"
 #include "sim/simulation.h"
 
 #include <nlohmann/json.hpp>
@@ -32,20 +34,19 @@ namespace kurage::pipeline {
 
 namespace {
 
-// The rows --solver picks: a solver with the DFSPH settings each row changes (the others keep the
-// scenes' defaults).
+// The rows --solver picks: a solver with the settings each row changes, as scene keys of `fluid`
+// (the others keep the scenes' defaults).
 struct SolverRow {
   const char* name;
-  const char* solver;             // fluid.solver
-  bool conjugateGradients;        // fluid.divergence_solve "cg"
-  bool gradientCorrection;        // fluid.gradient_correction
-  float maxDivergenceError;       // %, fluid.max_divergence_error; <= 0: the default
+  const char* solver;          // fluid.solver
+  bool gradientCorrection;     // fluid.gradient_correction
+  const char* settings;        // the solver's own keys (sim/solvers/<solver>/), as JSON
 };
-constexpr std::array<SolverRow, 5> kSolverRows{{{"wcsph", "wcsph", false, false, 0.0f},
-                                                {"dfsph", "dfsph", false, false, 0.0f},
-                                                {"dfsph-cg", "dfsph", true, false, 0.0f},
-                                                {"dfsph-gc", "dfsph", false, true, 0.0f},
-                                                {"dfsph-calm", "dfsph", true, true, 0.01f}}};
+constexpr std::array<SolverRow, 5> kSolverRows{{{"wcsph", "wcsph", false, "{}"},
+                                                {"dfsph", "dfsph", false, "{}"},
+                                                {"dfsph-cg", "dfsph", false, R"({"divergence_solve": "cg"})"},
+                                                {"dfsph-gc", "dfsph", true, "{}"},
+                                                {"dfsph-calm", "dfsph", true, R"({"divergence_solve": "cg", "max_divergence_error": 0.01})"}}};
 
 const SolverRow* findSolverRow(const std::string& name) {
   for (const SolverRow& row : kSolverRows)
@@ -59,8 +60,8 @@ struct StepSettings {
   float cfl = 0.4f;              // time_step.cfl
   float pressureFactor = 0.4f;   // time_step.pressure_factor (incompressible solvers)
   double warmupTime = -1.0;      // s: warm up to this simulated time instead of `warmup` steps
-  float maxDensityError = 0.1f;  // %: DFSPH's fluid.max_density_error
-  float maxDivergenceError = -1.0f;  // %: DFSPH's fluid.max_divergence_error where > 0 (else each row's own)
+  float maxDensityError = 0.1f;  // %: fluid.max_density_error, where the solver has it
+  float maxDivergenceError = -1.0f;  // %: fluid.max_divergence_error where > 0 and the solver has it (else each row's own)
   double duration = -1.0;        // s: time steps until the clock has advanced this far, instead of `steps` steps
 };
 
@@ -81,12 +82,18 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(float(nx), float(nx), float(nz))});
   const SolverRow& row = *findSolverRow(solver);
   p.fluid.solver = row.solver;
-  if (row.conjugateGradients) p.fluid.divergenceSolve = sim::DivergenceSolve::ConjugateGradient;
   p.fluid.gradientCorrection = row.gradientCorrection;
-  if (row.maxDivergenceError > 0.0f) p.fluid.maxDivergenceError = row.maxDivergenceError;
-  if (settings.maxDivergenceError > 0.0f) p.fluid.maxDivergenceError = settings.maxDivergenceError;
-  p.fluid.maxDensityError = settings.maxDensityError;
-  if (p.fluid.solver != "wcsph") {
+  // The row's settings and the tolerances given, through the solver's own describe()
+  nlohmann::json keys = nlohmann::json::parse(row.settings), declared;
+  JsonWriter writer(declared);
+  describeSolverParams(writer, p.fluid.solver);
+  if (declared.contains("max_density_error")) keys["max_density_error"] = settings.maxDensityError;
+  if (declared.contains("max_divergence_error") && settings.maxDivergenceError > 0.0f)
+    keys["max_divergence_error"] = settings.maxDivergenceError;
+  JsonReader reader(keys, "bench sim", "fluid");
+  describeSolverParams(reader, p.fluid.solver);
+  reader.finish();
+  if (sim::makePressureSolver(p.fluid)->incompressible()) {
     p.container.wallDensity = sim::WallDensity::BoundaryParticles;
     p.fluid.pressureForce = sim::PressureForce::Monaghan1992;
   }
@@ -95,8 +102,8 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
 
 struct BenchRun {
   std::string solver;
-  double iterations = 0;         // DFSPH: density + divergence iterations per step
-  double divergenceIterations = 0;  // of which divergence
+  double iterations = 0;         // iterations per step, all of the solver's solves
+  std::vector<std::pair<std::string, double>> solveIterations;  // by solve
   double simulatedPerWall = 0;   // simulated seconds per wall-clock second
   double timedFrom = 0;          // simulated time at which the timed steps start, s
   double densityError = 0;       // mean compression over the timed steps (fraction)
@@ -121,7 +128,7 @@ BenchRun measure(int particles, float h, int threads, int warmup, int stepCount,
   else
     for (int i = 0; i < warmup; ++i) simulation.step(simulation.nextStepLimit().step);
   const sim::SimStats before = simulation.stats();
-  const sim::SolverStats solverBefore = simulation.solver().stats();
+  const sim::SolverCounters solverBefore = simulation.solver().counters();
   const double timeBefore = simulation.time();
   const auto start = std::chrono::steady_clock::now();
   double neighbours = 0;
@@ -139,10 +146,11 @@ BenchRun measure(int particles, float h, int threads, int warmup, int stepCount,
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   BenchRun r;
   r.solver = solver;
-  const sim::SolverStats& ss = simulation.solver().stats();
-  r.iterations = double(ss.densityIterations - solverBefore.densityIterations +
-                        ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
-  r.divergenceIterations = double(ss.divergenceIterations - solverBefore.divergenceIterations) / steps;
+  const sim::SolverCounters after = simulation.solver().counters();
+  r.iterations = double(after.iterations() - solverBefore.iterations()) / steps;
+  for (size_t k = 0; k < after.solves.size(); ++k)
+    r.solveIterations.emplace_back(after.solves[k].name,
+                                   double(after.solves[k].iterations - solverBefore.solves[k].iterations) / steps);
   r.simulatedPerWall = (simulation.time() - timeBefore) / seconds;
   r.timedFrom = timeBefore;
   r.timedSteps = steps;
@@ -181,8 +189,9 @@ int benchSim(ArgParser& args) {
                 "--cfl F, --pressure-factor F: time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each).\n"
                 "--warmup-time S: warm up to S simulated seconds instead of --warmup steps (the JSON's\n"
                 "timed_from_s says where timing began), to time solvers from the same moment.\n"
-                "--max-density-error P: DFSPH's fluid.max_density_error in %% (default 0.1), the tolerance on\n"
-                "its own predicted error; the density%% column measures every solver's compression alike.\n"
+                "--max-density-error P: fluid.max_density_error in %% (default 0.1) of the solvers that have it,\n"
+                "the tolerance on their own predicted error; the density%% column measures every solver's\n"
+                "compression alike.\n"
                 "--max-divergence-error P: DFSPH's fluid.max_divergence_error in %% for every DFSPH row\n"
                 "(default: each row's own, 0.1, or 0.01 for dfsph-calm; the JSON's max_divergence_error_percent\n"
                 "is null then).\n"
@@ -241,19 +250,21 @@ int benchSim(ArgParser& args) {
                                                              : nlohmann::json()},
                         {"runs", nlohmann::json::array()}};
   if (!json)
-    std::printf("%8s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %5s %8s %9s\n", "solver", "particles", "h/l", "threads",
-                "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "div", "sim s/s",
+    std::printf("%10s %10s %6s %7s %9s %9s %8s %8s %8s %10s %9s %6s %8s %9s\n", "solver", "particles", "h/l", "threads",
+                "neighbours", "ms/step", "sort", "density", "forces", "Mpsteps/s", "B/particle", "iters", "sim s/s",
                 "density%");
   for (const std::string& solver : solvers)
   for (int count : counts)
     for (float h : {1.5f, 2.0f})
       for (int threads : threadCounts) {
-        if (solver != "wcsph" && h < 2.0f) continue;
+        if (findSolverRow(solver)->solver != std::string("wcsph") && h < 2.0f) continue;
         const BenchRun r = measure(count, h, threads, warmup, steps, solver, settings);
         nlohmann::json stages = nlohmann::json::object();
         for (size_t s = 0; s < r.stageMs.size(); ++s) stages[std::string(sim::stageName(sim::Stage(s)))] = r.stageMs[s];
+        nlohmann::json bySolve = nlohmann::json::object();
+        for (const auto& [name, iterations] : r.solveIterations) bySolve[name] = iterations;
         out["runs"].push_back({{"solver", r.solver}, {"iterations_per_step", r.iterations},
-                               {"divergence_iterations_per_step", r.divergenceIterations},
+                               {"iterations_per_step_by_solve", bySolve},
                                {"simulated_s_per_wall_s", r.simulatedPerWall}, {"mean_density_error", r.densityError},
                                {"timed_from_s", r.timedFrom}, {"timed_steps", r.timedSteps},
                                {"timed_simulated_s", r.timedSeconds},
@@ -263,11 +274,11 @@ int benchSim(ArgParser& args) {
                                {"particle_steps_per_s", r.particleStepsPerSecond},
                                {"bytes_per_particle", r.bytesPerParticle}});
         if (!json) {
-          std::printf("%8s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %5.2f %8.3f %9.3f\n",
+          std::printf("%10s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %8.3f %9.3f\n",
                       r.solver.c_str(), r.particles, r.hOverSpacing, r.threads, r.meanNeighbours, r.msPerStep,
                       r.stageMs[size_t(sim::Stage::Sort)], r.stageMs[size_t(sim::Stage::Density)],
                       r.stageMs[size_t(sim::Stage::Forces)], r.particleStepsPerSecond / 1e6, r.bytesPerParticle,
-                      r.iterations, r.divergenceIterations, r.simulatedPerWall, 100.0 * r.densityError);
+                      r.iterations, r.simulatedPerWall, 100.0 * r.densityError);
           std::fflush(stdout);
         }
       }

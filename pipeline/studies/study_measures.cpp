@@ -40,7 +40,7 @@ std::string surfaceKey(const nlohmann::json& doc) {
 struct SimOutcome {
   sim::ParticleSet particles;
   sim::SimStats stats;
-  sim::SolverStats solver;
+  sim::SolverCounters solver;
   double seconds = 0.0;
   size_t capHits = 0;
 };
@@ -65,7 +65,7 @@ SimOutcome simulate(const Scene& scene, double duration, const std::vector<doubl
   out.seconds = seconds;
   out.particles = simulation.particles();
   out.stats = simulation.stats();
-  out.solver = simulation.solver().stats();
+  out.solver = simulation.solver().counters();
   if (const sim::BodySystem* bodies = simulation.bodies()) out.capHits = bodies->stats().capHits;
   return out;
 }
@@ -330,9 +330,8 @@ StudyScorer stillTank(const Study& study) {
         simulate(scene, study.duration, times, [&](const sim::Simulation& s) { track.record(s.particles()); });
     timeSimulation(row, sim);
     if (track.slabs() == 0) throw std::runtime_error("no interior slab: the tank is shallower than 4 h");
-    const sim::SolverStats& solver = sim.solver;
-    const double iterations =
-        solver.steps ? double(solver.densityIterations + solver.divergenceIterations) / double(solver.steps) : 0.0;
+    const sim::SolverCounters& solver = sim.solver;
+    const double iterations = solver.steps ? double(solver.iterations()) / double(solver.steps) : 0.0;
     row.figures = {track.surfaceError(), rmsSpeed(sim.particles, 0), track.worstSlabBelowFilled(), double(track.slabs()),
                    double(track.samples()), iterations, track.worstSlabAgainstWeight(), track.worstLayer()};
     row.error = track.worstSlab();

@@ -1,7 +1,7 @@
 // The pressure solvers' registry: one line per solver (sim/solvers/pressure_solver.h).
-#include "sim/solvers/dfsph.h"
+#include "sim/solvers/dfsph/dfsph.h"
 #include "sim/solvers/pressure_solver.h"
-#include "sim/solvers/wcsph.h"
+#include "sim/solvers/wcsph/wcsph.h"
 
 #include <functional>
 #include <stdexcept>
@@ -10,51 +10,105 @@
 namespace kurage::sim {
 
 namespace {
-using Factory = std::function<std::unique_ptr<PressureSolver>(const FluidParams&)>;
-const std::vector<std::pair<std::string, Factory>>& registry() {
-  static const std::vector<std::pair<std::string, Factory>> table{
-      {"wcsph", [](const FluidParams& f) { return std::make_unique<WcsphSolver>(f); }},
-      {"dfsph", [](const FluidParams& f) { return std::make_unique<DfsphSolver>(f); }},
+struct Entry {
+  std::string name;
+  std::string summary;  // fluid.solver's documentation of it
+  std::function<std::unique_ptr<SolverParams>()> params;
+  std::function<std::unique_ptr<PressureSolver>(const FluidParams&)> solver;
+};
+
+template <class Solver, class Params>
+Entry entry(const char* name, const char* summary) {
+  return {name, summary, [] { return std::make_unique<Params>(); },
+          [](const FluidParams& f) { return std::make_unique<Solver>(f); }};
+}
+
+const std::vector<Entry>& registry() {
+  static const std::vector<Entry> table{
+      entry<WcsphSolver, WcsphParams>("wcsph", kWcsphSummary),
+      entry<DfsphSolver, DfsphParams>("dfsph", kDfsphSummary),
   };
   return table;
+}
+
+const Entry& find(const std::string& name) {
+  for (const Entry& e : registry())
+    if (e.name == name) return e;
+  throw std::invalid_argument("unknown pressure solver '" + name + "'");
 }
 }  // namespace
 
 const std::vector<std::string>& pressureSolverNames() {
   static const std::vector<std::string> names = [] {
     std::vector<std::string> n;
-    for (const auto& [name, factory] : registry()) n.push_back(name);
+    for (const Entry& e : registry()) n.push_back(e.name);
     return n;
   }();
   return names;
 }
 
+const std::vector<std::string>& pressureSolverSummaries() {
+  static const std::vector<std::string> summaries = [] {
+    std::vector<std::string> s;
+    for (const Entry& e : registry()) s.push_back(e.summary);
+    return s;
+  }();
+  return summaries;
+}
+
+std::unique_ptr<SolverParams> makeSolverParams(const std::string& name) { return find(name).params(); }
+
 std::unique_ptr<PressureSolver> makePressureSolver(const FluidParams& fluid) {
-  for (const auto& [name, factory] : registry())
-    if (name == fluid.solver) return factory(fluid);
-  throw std::invalid_argument("unknown pressure solver '" + fluid.solver + "'");
+  return find(fluid.solver.name()).solver(fluid);
 }
 
 DensityKernel densityKernelOf(const FluidParams& fluid) { return makePressureSolver(fluid)->densityKernel(); }
 
+std::optional<ParamProblem> pressureSolverProblem(const FluidParams& fluid) { return fluid.solver.params().problem(fluid); }
+
 std::string boundaryCouplingProblem(const FluidParams& fluid) {
-  if (!makePressureSolver(fluid)->couplesBoundaryBodies())
-    return "\"boundary\" needs a solver that couples bodies as the fluid's boundary (fluid.solver \"dfsph\"), got \"" +
-           fluid.solver + "\"";
-  if (fluid.densitySum != DensitySum::Volume)
-    return "\"boundary\" needs fluid.density_sum \"volume\": the fluid counts a boundary sample by its volume "
-           "m / rho0, which (10) grows as the body stretches";
-  if (fluid.divergenceSolve != DivergenceSolve::Jacobi)
-    return "\"boundary\" needs fluid.divergence_solve \"jacobi\": spreading the reactions over spring patches "
-           "makes the solves' operator unsymmetric, which conjugate gradients does not allow";
-  return "";
+  const std::unique_ptr<PressureSolver> solver = makePressureSolver(fluid);
+  if (solver->couplesBoundaryBodies()) return solver->boundaryCouplingProblem(fluid);
+  std::string coupling;
+  for (const Entry& e : registry()) {
+    FluidParams other;  // the defaults: a solver that refuses the scene's other settings still answers
+    other.solver = SolverChoice(e.name);
+    if (e.solver(other)->couplesBoundaryBodies()) coupling += (coupling.empty() ? "\"" : ", \"") + e.name + "\"";
+  }
+  return "\"boundary\" needs a solver that couples bodies as the fluid's boundary (fluid.solver " + coupling +
+         "), got \"" + fluid.solver.name() + "\"";
 }
 
 SphKernel resolvedKernel(const FluidParams& fluid, WallDensity walls) {
   if (fluid.kernel != SphKernel::Auto) return fluid.kernel;
-  if (densityKernelOf(fluid) == DensityKernel::CubicSpline || walls == WallDensity::BoundaryParticles)
-    return SphKernel::CubicSpline;
-  return SphKernel::Mueller2003;
+  return makePressureSolver(fluid)->ownKernel(walls);
 }
+
+uint64_t SolverCounters::iterations() const {
+  uint64_t n = 0;
+  for (const SolveCount& s : solves) n += s.iterations;
+  return n;
+}
+
+uint64_t SolverCounters::capHits() const {
+  uint64_t n = 0;
+  for (const SolveCount& s : solves) n += s.capHits;
+  return n;
+}
+
+// fluid.solver (sim/params.h)
+SolverChoice::SolverChoice(const char* name) : SolverChoice(std::string(name)) {}
+SolverChoice::SolverChoice(const std::string& name) : name_(name), params_(makeSolverParams(name)) {}
+SolverChoice::SolverChoice(const SolverChoice& other) : name_(other.name_), params_(other.params_->clone()) {}
+SolverChoice::SolverChoice(SolverChoice&& other) noexcept = default;
+SolverChoice& SolverChoice::operator=(const SolverChoice& other) {
+  if (this != &other) {
+    params_ = other.params_->clone();
+    name_ = other.name_;
+  }
+  return *this;
+}
+SolverChoice& SolverChoice::operator=(SolverChoice&& other) noexcept = default;
+SolverChoice::~SolverChoice() = default;
 
 }  // namespace kurage::sim

@@ -1,4 +1,4 @@
-#include "sim/solvers/dfsph.h"
+#include "sim/solvers/dfsph/dfsph.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -21,11 +21,36 @@ constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergenc
 constexpr float kCgDivergenceWarmStart = 0.8f;  // the same for conjugate gradients (header)
 }  // namespace
 
+void DfsphParams::describe(ParamVisitor& v) {
+  v.value("max_density_error", maxDensityError,
+          {"%", "dfsph: the constant-density solve iterates until the mean compression is below this, in percent "
+                "of the rest density", positive()});
+  v.value("max_divergence_error", maxDivergenceError,
+          {"%", "dfsph: the divergence solve iterates until the mean density change over one step is below this, "
+                "in percent of the rest density", positive()});
+  v.value("max_iterations", maxIterations,
+          {"", "dfsph: iteration cap of the constant-density solve (a step that reaches it is counted in "
+               "run.json and warned about)", atLeast(1)});
+  v.value("max_divergence_iterations", maxDivergenceIterations,
+          {"", "dfsph: iteration cap of the divergence solve", atLeast(1)});
+  v.enumeration("divergence_solve", divergenceSolve,
+                EnumTable<DivergenceSolve>{{"jacobi", DivergenceSolve::Jacobi}, {"cg", DivergenceSolve::ConjugateGradient}},
+                {"", "dfsph: how the divergence solve iterates: 'jacobi' (relaxed Jacobi, as Bender & Koschier) or "
+                     "'cg' (preconditioned conjugate gradients on the same equations: about half the iterations "
+                     "for the same tolerance; docs/PHYSICS.md says what else changes)"});
+}
+
+std::optional<ParamProblem> DfsphParams::problem(const FluidParams& fluid) const {
+  if (fluid.kernel == SphKernel::Mueller2003)
+    return ParamProblem{"fluid.kernel", "dfsph's solves use the cubic spline: 'cubic_spline' or 'auto', got \"mueller2003\""};
+  return std::nullopt;
+}
+
 DfsphSolver::DfsphSolver(const FluidParams& fluid)
-    : kernel_(fluid.supportRadiusMetres()), form_(fluid.densitySum),
-      maxDensityError_(0.01f * fluid.maxDensityError), maxDivergenceError_(0.01f * fluid.maxDivergenceError),
-      maxIterations_(fluid.maxIterations), maxDivergenceIterations_(fluid.maxDivergenceIterations),
-      divergenceSolve_(fluid.divergenceSolve) {
+    : params_(fluid.solver.as<DfsphParams>()), restDensity_(fluid.restDensity), kernel_(fluid.supportRadiusMetres()),
+      form_(fluid.densitySum), maxDensityError_(0.01f * params_.maxDensityError),
+      maxDivergenceError_(0.01f * params_.maxDivergenceError), maxIterations_(params_.maxIterations),
+      maxDivergenceIterations_(params_.maxDivergenceIterations), divergenceSolve_(params_.divergenceSolve) {
   if (fluid.kernel == SphKernel::Mueller2003)
     throw std::invalid_argument("dfsph: its solves use the cubic spline kernel, not the paper's poly6 and spiky");
   // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l), at most
@@ -66,16 +91,87 @@ double DfsphSolver::orderedSum(size_t count, F&& f) {
   return total;
 }
 
-void DfsphSolver::setInitialPressure(const std::vector<float>& piById) { piById_ = piById; }
+StepNeeds DfsphSolver::needs() const {
+  StepNeeds n;
+  n.correctsVelocities = true;
+  n.wallSums = true;
+  n.gradientCorrection = true;
+  return n;
+}
+
+std::string DfsphSolver::boundaryCouplingProblem(const FluidParams& fluid) const {
+  if (fluid.densitySum != DensitySum::Volume)
+    return "\"boundary\" needs fluid.density_sum \"volume\": the fluid counts a boundary sample by its volume "
+           "m / rho0, which (10) grows as the body stretches";
+  if (params_.divergenceSolve != DivergenceSolve::Jacobi)
+    return "\"boundary\" needs fluid.divergence_solve \"jacobi\": spreading the reactions over spring patches "
+           "makes the solves' operator unsymmetric, which conjugate gradients does not allow";
+  return "";
+}
+
+void DfsphSolver::hydrostaticHead(const std::vector<float>& headById) {
+  // The density solve's warm start pi = p / rho0^2 = g depth / rho0
+  piById_.resize(headById.size());
+  for (size_t id = 0; id < headById.size(); ++id) piById_[id] = headById[id] / restDensity_;
+}
+
+SolverCounters DfsphSolver::counters() const {
+  return {stats_.steps,
+          {{"density", stats_.densityIterations, stats_.densityCapHits},
+           {"divergence", stats_.divergenceIterations, stats_.divergenceCapHits}}};
+}
+
+void DfsphSolver::report(SolverReport& out) const {
+  const double steps = std::max<double>(1.0, double(stats_.steps));
+  out.add("density_solve.mean_iterations", double(stats_.densityIterations) / steps);
+  out.add("density_solve.max_iterations", stats_.maxDensityIterations);
+  out.add("density_solve.cap", params_.maxIterations);
+  out.add("density_solve.cap_hits", stats_.densityCapHits);
+  out.add("density_solve.final_error", stats_.lastDensityError);
+  out.add("density_solve.mean_final_error", stats_.sumDensityError / steps);
+  out.add("density_solve.max_final_error", stats_.maxDensityError);
+  out.add("density_solve.tolerance", 0.01 * params_.maxDensityError);
+  out.add("divergence_solve.method", params_.divergenceSolve == DivergenceSolve::Jacobi ? "jacobi" : "cg");
+  out.add("divergence_solve.mean_iterations", double(stats_.divergenceIterations) / steps);
+  out.add("divergence_solve.max_iterations", stats_.maxDivergenceIterations);
+  out.add("divergence_solve.cap", params_.maxDivergenceIterations);
+  out.add("divergence_solve.cap_hits", stats_.divergenceCapHits);
+  out.add("divergence_solve.final_error", stats_.lastDivergenceError);
+  out.add("divergence_solve.tolerance", 0.01 * params_.maxDivergenceError);
+  out.add("torn_body_particles.steps", stats_.tornSteps);
+  out.add("torn_body_particles.max_at_once", stats_.maxTorn);
+  out.add("torn_body_particles.note", "telescopic body particles stretched until their rest density fell below a "
+                                      "quarter of its initial value, left out of the solves' unknowns "
+                                      "(docs/PHYSICS.md, Bodies under DFSPH)");
+}
+
+std::vector<SolverWarning> DfsphSolver::warnings() const {
+  std::vector<SolverWarning> w;
+  if (stats_.tornSteps)
+    w.push_back({"in " + std::to_string(stats_.tornSteps) + " of " + std::to_string(stats_.steps) + " steps (up to " +
+                     std::to_string(stats_.maxTorn) +
+                     " at once) telescopic body particles were stretched below a quarter of their rest density and "
+                     "left out of the dfsph solver's unknowns",
+                 "torn_body_particles"});
+  if (stats_.densityCapHits || stats_.divergenceCapHits)
+    w.push_back({"the dfsph solver stopped at its iteration cap in " + std::to_string(stats_.densityCapHits) +
+                     " density and " + std::to_string(stats_.divergenceCapHits) + " divergence solves of " +
+                     std::to_string(stats_.steps) + " steps (fluid.max_iterations " +
+                     std::to_string(params_.maxIterations) + ", fluid.max_divergence_iterations " +
+                     std::to_string(params_.maxDivergenceIterations) +
+                     "): the density error there is above the tolerance",
+                 ""});
+  return w;
+}
 
 void DfsphSolver::saveState(StateWriter& out) const {
-  PressureSolver::saveState(out);
+  out.value(stats_);
   out.array(piById_);
   out.array(qById_);
 }
 
 void DfsphSolver::restoreState(StateReader& in) {
-  PressureSolver::restoreState(in);
+  stats_ = in.value<DfsphStats>();
   in.array(piById_, uint64_t(1) << 32);
   in.array(qById_, uint64_t(1) << 32);
 }

@@ -52,7 +52,7 @@
 //   loaded membrane of membrane.json apart (non-finite at t = 8.2 s).
 // - A telescopic body particle whose rest density (10) has fallen below a quarter of its initial
 //   one (BodySystem::kTornDensityRatio; "torn", stretched past what the solves can hold; counted
-//   in SolverStats::tornSteps, and `kurage sim` warns). With its volume m/rho0 grown that much,
+//   in DfsphStats::tornSteps, and `kurage sim` warns). With its volume m/rho0 grown that much,
 //   its own kernel's share of its density, m_i W(0), approaches its rest density and it has few
 //   neighbours (D_i small), so no pressure brings it to rest density: its pressure grew without
 //   bound and flung it out at hundreds of m/s (the same membrane, once its rim was held, at
@@ -158,24 +158,66 @@
 
 namespace kurage::sim {
 
+inline constexpr const char* kDfsphSummary =
+    "'dfsph' (divergence-free SPH, Bender & Koschier 2017: incompressible to max_density_error, whatever the step; "
+    "uses the cubic spline kernel, support_radius 2 recommended; 3 closer to Martin & Moyce in a deep slice, at "
+    "about 2.5 times the cost, docs/VALIDATION.md)";
+
+// How the divergence solve iterates.
+enum class DivergenceSolve {
+  Jacobi,             // relaxed Jacobi, as Bender & Koschier 2017 (the default)
+  ConjugateGradient,  // preconditioned conjugate gradients on the same equations (ours)
+};
+
+// Scene keys (fluid.*): the tolerances in percent of rho0 and the iteration caps.
+struct DfsphParams final : SolverParams {
+  float maxDensityError = 0.1f;     // %: mean residual of the constant-density solve
+  float maxDivergenceError = 0.1f;  // %: mean |Drho/Dt| dt / rho0 of the divergence solve
+  int maxIterations = 100;
+  int maxDivergenceIterations = 100;
+  DivergenceSolve divergenceSolve = DivergenceSolve::Jacobi;
+  std::unique_ptr<SolverParams> clone() const override { return std::make_unique<DfsphParams>(*this); }
+  void describe(ParamVisitor& v) override;
+  std::optional<ParamProblem> problem(const FluidParams& fluid) const override;
+};
+
+// What the solves did over the run (run.json's report; the checkpoint keeps it).
+struct DfsphStats {
+  uint64_t steps = 0;                     // steps the solver ran
+  uint64_t densityIterations = 0;         // summed over steps
+  uint64_t divergenceIterations = 0;
+  int maxDensityIterations = 0;           // largest in one step
+  int maxDivergenceIterations = 0;
+  uint64_t densityCapHits = 0;            // steps that stopped at the iteration cap
+  uint64_t divergenceCapHits = 0;
+  double lastDensityError = 0.0;          // the last step's final mean error, fraction of rho0
+  double lastDivergenceError = 0.0;
+  double maxDensityError = 0.0;           // largest final mean density error of any step
+  double sumDensityError = 0.0;           // summed over steps (mean = sum / steps)
+  uint64_t tornSteps = 0;                 // steps that left torn body particles out (SolverContext::unsolved)
+  int maxTorn = 0;                        // most torn body particles left out in one step
+};
+
 class DfsphSolver final : public PressureSolver {
 public:
   explicit DfsphSolver(const FluidParams& fluid);
   std::string_view name() const override { return "dfsph"; }
   DensityKernel densityKernel() const override { return DensityKernel::CubicSpline; }
-  bool pressureInForces() const override { return false; }
+  SphKernel ownKernel(WallDensity) const override { return SphKernel::CubicSpline; }
   bool incompressible() const override { return true; }
+  StepNeeds needs() const override;
   bool couplesBoundaryBodies() const override { return true; }
+  std::string boundaryCouplingProblem(const FluidParams& fluid) const override;
   void afterDensity(const SolverContext& context) override;
   void correctVelocities(const SolverContext& context, float dt) override;
-  void setInitialPressure(const std::vector<float>& piById) override;
-  const SolverStats& stats() const override { return stats_; }
+  void hydrostaticHead(const std::vector<float>& headById) override;
+  const DfsphStats& stats() const { return stats_; }
+  SolverCounters counters() const override;
+  void report(SolverReport& out) const override;
+  std::vector<SolverWarning> warnings() const override;
   size_t memoryBytes() const override;
   void saveState(StateWriter& out) const override;  // statistics and the warm start by id
   void restoreState(StateReader& in) override;
-
-protected:
-  SolverStats& mutableStats() override { return stats_; }
 
 private:
   // Four floats in one SIMD register (GCC and Clang vector extension): x, y, z and a fourth
@@ -212,6 +254,8 @@ private:
   template <class F>
   double orderedSum(size_t count, F&& f);
 
+  DfsphParams params_;
+  float restDensity_;  // rho0 of the fluid
   CubicSplineKernel kernel_;
   DensitySum form_;
   float maxDensityError_, maxDivergenceError_;  // fractions
@@ -235,7 +279,7 @@ private:
   std::vector<float> qSum_;                    // divergence solve: this step's total q
   std::vector<float> qById_;                   // its warm start, by particle id
   std::vector<double> headSum_, headCount_;    // wetWalls: per body kind
-  SolverStats stats_;
+  DfsphStats stats_;
   std::vector<float> residual_, direction_, weight_;  // divergenceCg: r, d and c_i (0 off the unknowns)
   std::vector<Float4> scratch_;                       // divergenceCg: -P d
   bool corrected_ = false;                            // fluid.gradient_correction: the kernel gradient L_i grad W_ij
