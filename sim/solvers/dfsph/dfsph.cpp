@@ -1,13 +1,12 @@
 #include "sim/solvers/dfsph/dfsph.h"
 
-#include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <stdexcept>
+#include <utility>
 
 namespace kurage::sim {
 
@@ -16,7 +15,6 @@ constexpr int kMinDensityIterations = 2;     // Bender & Koschier 2017, Algorith
 constexpr float kSurfaceDensityRatio = 0.9f; // below: left out of the divergence solve
 constexpr float kMirror = 2.0f;               // the wall's pressure counts with the particle's (header)
 constexpr float kRelaxation = 0.5f;          // Jacobi relaxation of the constant-density solve
-constexpr float kRelaxedNeighbours = 26.0f;  // ... for at most this many neighbours (h = 2 l's lattice)
 constexpr float kDivergenceWarmStart = 0.5f; // of the previous step's divergence pressure (Jacobi)
 constexpr float kCgDivergenceWarmStart = 0.8f;  // the same for conjugate gradients (header)
 }  // namespace
@@ -53,42 +51,15 @@ DfsphSolver::DfsphSolver(const FluidParams& fluid)
       maxDivergenceIterations_(params_.maxDivergenceIterations), divergenceSolve_(params_.divergenceSolve) {
   if (fluid.kernel == SphKernel::Mueller2003)
     throw std::invalid_argument("dfsph: its solves use the cubic spline kernel, not the paper's poly6 and spiky");
-  // Neighbours of a particle inside a full lattice of the fluid spacing (26 at h = 2 l), at most
-  // the count the relaxation was measured for: with a wider support (92 neighbours at h = 3 l)
-  // the fluid's own iteration diverged at ½ (Martin & Moyce went non-finite within 0.08 s at
-  // h = 2.5 and 3 l).
-  const int reach = int(std::ceil(fluid.supportRadius));
-  for (int a = -reach; a <= reach; ++a)
-    for (int b = -reach; b <= reach; ++b)
-      for (int c = -reach; c <= reach; ++c)
-        if ((a || b || c) && float(a * a + b * b + c * c) < fluid.supportRadius * fluid.supportRadius)
-          latticeNeighbours_ += 1.0f;
-  latticeNeighbours_ = std::min(latticeNeighbours_, kRelaxedNeighbours);
+  latticeNeighbours_ = solvers::relaxedNeighbours(fluid.supportRadius);
 }
 
-namespace {
-// f(i) for every particle, in parallel (each i independent).
-template <class F>
-void forEach(size_t count, F&& f) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) f(i);
-  });
-}
-}  // namespace
+using solvers::forEach;
+using solvers::storeById;
 
 template <class F>
 double DfsphSolver::orderedSum(size_t count, F&& f) {
-  const size_t chunks = (count + NeighborLists::kChunk - 1) / NeighborLists::kChunk;
-  partial_.assign(chunks, 0.0);
-  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
-    double s = 0.0;
-    const size_t last = std::min(count, (c + 1) * NeighborLists::kChunk);
-    for (size_t i = c * NeighborLists::kChunk; i < last; ++i) s += f(i);
-    partial_[c] = s;
-  });
-  double total = 0.0;
-  for (double s : partial_) total += s;
-  return total;
+  return solvers::orderedSum(count, partial_, std::forward<F>(f));
 }
 
 StepNeeds DfsphSolver::needs() const {
@@ -377,18 +348,6 @@ int DfsphSolver::divergenceCg(const SolverContext& c, double& error) {
   return iterations;
 }
 
-void DfsphSolver::storeById(const ParticleSet& p, const std::vector<float>& values, std::vector<float>& byId) {
-  const int64_t maxId = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, p.size(), 4096), int64_t(-1),
-      [&](const tbb::blocked_range<size_t>& r, int64_t m) {
-        for (size_t i = r.begin(); i != r.end(); ++i) m = std::max(m, p.id[i]);
-        return m;
-      },
-      [](int64_t a, int64_t b) { return std::max(a, b); });
-  byId.assign(size_t(maxId + 1), 0.0f);
-  forEach(p.size(), [&](size_t i) { byId[size_t(p.id[i])] = values[i]; });  // ids are unique
-}
-
 void DfsphSolver::loadVelocities(const ParticleSet& p) {
   tbb::parallel_for(size_t(0), p.size(), [&](size_t i) { velocity_[i] = Float4{p.vx[i], p.vy[i], p.vz[i], 0.0f}; });
 }
@@ -413,11 +372,7 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
       // per pair cost about 10 % of a step).
       float rate;
       if (!corrected_) {
-        Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++s) {
-          const Float4 xj = x[*it];
-          sum += xj[3] * ((vi - v[*it]) * (*s * (xi - xj)));  // w_j (v_i - v_j) * grad W_ij, per axis
-        }
+        const Float4 sum = solvers::rateSum(c.neighbors.begin(i), c.neighbors.end(i), s, x, v, xi, vi);
         rate = sum[0] + sum[1] + sum[2];
       } else {
         // sum_j w_j (v_i - v_j) . L_i grad W_ij = sum_a L_i,a . T_a, T_a = sum_j w_j (v_i - v_j)_a grad W_ij
@@ -466,11 +421,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       const float* sp = s0 + c.neighbors.offset(i);
       Float4 a = {0.0f, 0.0f, 0.0f, 0.0f};
       if (!corrected_) {
-        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
-          const uint32_t j = *it;
-          const Float4 xj = x[j];
-          a += (*sp * (xj[3] * (ki + k[j]))) * (xi - xj);  // w_j (k_i + k_j) grad W_ij, the scalars first
-        }
+        a = solvers::pushSum(c.neighbors.begin(i), c.neighbors.end(i), sp, x, k, xi, ki);  // w_j (k_i + k_j) grad W_ij
       } else {
         // w_j (k_i L_i + k_j L_j) grad W_ij: the transpose of the corrected density rate (header).
         // The neighbours' part, sum_j s_ij w_j k_j L_j (x_i - x_j) = M_i x_i - Y_i with

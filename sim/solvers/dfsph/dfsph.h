@@ -155,6 +155,7 @@
 #pragma once
 
 #include "sim/solvers/pressure_solver.h"
+#include "sim/solvers/solver_common.h"
 
 namespace kurage::sim {
 
@@ -220,18 +221,10 @@ public:
   void restoreState(StateReader& in) override;
 
 private:
-  // Four floats in one SIMD register (GCC and Clang vector extension): x, y, z and a fourth
-  // value, so that a neighbour's data is one load and a pair's arithmetic one instruction each
-  // (every float operation in the order of the scalar loops it replaced: the same results).
-  // Measured on bench sim's dam break: forming grad W_ij from scalar position arrays instead took
-  // 25 % longer a step; packed, one float a pair runs as fast as three stored ones did.
-  using Float4 = float __attribute__((vector_size(16)));
+  using Float4 = solvers::Float4;
   // velocity_ <- the particles' velocities (fourth lane 0), and back.
   void loadVelocities(const ParticleSet& p);
   void storeVelocities(ParticleSet& p) const;
-  // byId[p.id[i]] = values[i], sized to the largest id + 1 (0 for ids no particle has): the
-  // warm starts, kept by id because sorting reorders the particles.
-  static void storeById(const ParticleSet& p, const std::vector<float>& values, std::vector<float>& byId);
   // The wall's weight in the factor and the push (header): rho0_i for density_sum "mass", 1 for
   // "volume" (whose unknowns are pressures).
   float wallWeight(const ParticleSet& p, size_t i) const { return form_ == DensitySum::Mass ? p.restDensity[i] : 1.0f; }
@@ -250,7 +243,7 @@ private:
   // The divergence solve by conjugate gradients (header), from the warm-started velocity_; adds
   // the unknowns to qSum_; returns the iterations and sets `error`.
   int divergenceCg(const SolverContext& c, double& error);
-  // Sum over particles of f(i) in a fixed order (per chunk, then over chunks).
+  // solvers::orderedSum with partial_.
   template <class F>
   double orderedSum(size_t count, F&& f);
 
@@ -273,7 +266,7 @@ private:
   std::vector<uint8_t> active_;                // divergence solve: 1 where rho_i >= 0.9 rho0_i
   std::vector<uint8_t> fixed_;                 // no unknown of either solve: held by a pin, or a torn body particle
   std::vector<float> relax_;                   // per particle: the Jacobi relaxation
-  float latticeNeighbours_ = 0.0f;             // neighbours inside a full fluid lattice, at most 26
+  float latticeNeighbours_ = 0.0f;             // solvers::relaxedNeighbours
   std::vector<double> partial_;                // per chunk sums
   std::vector<float> piById_;                  // warm start, by particle id
   std::vector<float> qSum_;                    // divergence solve: this step's total q

@@ -1,0 +1,109 @@
+// Pieces the iterative pressure solvers share (dfsph/, iisph/): particle data packed four floats
+// to a SIMD register, the neighbour sums of a density rate and of a pressure push over it, sums
+// reduced in a fixed order, warm starts kept by particle id, and the bound on a relaxed Jacobi
+// iteration's neighbour count.
+//
+// Packing: a particle's position as (x, y, z, w), w its weight in the neighbours' sums (m_j, or
+// m_j / rho0_j for density_sum "volume"), its velocity as (vx, vy, vz, 0), so that a neighbour's
+// data is one load and a pair's arithmetic one instruction per operation (GCC and Clang vector
+// extension). The kernel gradient is grad W_ij = s_ij (x_i - x_j), s_ij = W'(r)/r from the
+// density pass (NeighborLists::slopes). Every float operation is in a fixed order: the results
+// do not depend on the number of threads.
+#pragma once
+
+#include "sim/neighbor_grid.h"
+#include "sim/particles.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+namespace kurage::sim::solvers {
+
+using Float4 = float __attribute__((vector_size(16)));
+
+// f(i) for every particle, in parallel (each i independent).
+template <class F>
+void forEach(size_t count, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) f(i);
+  });
+}
+
+// The sum over particles of f(i), per fixed chunk (NeighborLists::kChunk) and then over chunks in
+// order; `partial` is scratch.
+template <class F>
+double orderedSum(size_t count, std::vector<double>& partial, F&& f) {
+  const size_t chunks = (count + NeighborLists::kChunk - 1) / NeighborLists::kChunk;
+  partial.assign(chunks, 0.0);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t c) {
+    double s = 0.0;
+    const size_t last = std::min(count, (c + 1) * NeighborLists::kChunk);
+    for (size_t i = c * NeighborLists::kChunk; i < last; ++i) s += f(i);
+    partial[c] = s;
+  });
+  double total = 0.0;
+  for (double s : partial) total += s;
+  return total;
+}
+
+// byId[p.id[i]] = values[i], sized to the largest id + 1 (0 for ids no particle has): a warm
+// start kept by id, since sorting reorders the particles.
+inline void storeById(const ParticleSet& p, const std::vector<float>& values, std::vector<float>& byId) {
+  const int64_t maxId = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, p.size(), 4096), int64_t(-1),
+      [&](const tbb::blocked_range<size_t>& r, int64_t m) {
+        for (size_t i = r.begin(); i != r.end(); ++i) m = std::max(m, p.id[i]);
+        return m;
+      },
+      [](int64_t a, int64_t b) { return std::max(a, b); });
+  byId.assign(size_t(maxId + 1), 0.0f);
+  forEach(p.size(), [&](size_t i) { byId[size_t(p.id[i])] = values[i]; });  // ids are unique
+}
+
+// sum_j w_j (v_i - v_j) grad W_ij per axis (the density rate's neighbour sum before its three
+// axes are added), over neighbours [begin, end) with slopes from `slope`.
+inline Float4 rateSum(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x, const Float4* v,
+                      Float4 xi, Float4 vi) {
+  Float4 sum = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (const uint32_t* it = begin; it != end; ++it, ++slope) {
+    const Float4 xj = x[*it];
+    sum += xj[3] * ((vi - v[*it]) * (*slope * (xi - xj)));  // w_j (v_i - v_j) * grad W_ij, per axis
+  }
+  return sum;
+}
+
+// sum_j w_j (k_i + k_j) grad W_ij (a symmetric pressure push's neighbour sum; fourth lane
+// meaningless), the scalars multiplied first.
+inline Float4 pushSum(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x, const float* k,
+                      Float4 xi, float ki) {
+  Float4 a = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (const uint32_t* it = begin; it != end; ++it, ++slope) {
+    const uint32_t j = *it;
+    const Float4 xj = x[j];
+    a += (*slope * (xj[3] * (ki + k[j]))) * (xi - xj);
+  }
+  return a;
+}
+
+// The neighbours a relaxed Jacobi iteration of relaxation w is measured for: those of a particle
+// inside a full lattice of the fluid spacing at support radius h (in spacings), at most 26 (the
+// count at h = 2 l). A relaxed Jacobi iteration's largest eigenvalue grows with the neighbour
+// count: a particle with more neighbours (a body at half the fluid spacing has about 8 times as
+// many; a wider support 92 at h = 3 l) iterates with w min(1, this / its count).
+inline float relaxedNeighbours(float supportRadius) {
+  float count = 0.0f;
+  const int reach = int(std::ceil(supportRadius));
+  for (int a = -reach; a <= reach; ++a)
+    for (int b = -reach; b <= reach; ++b)
+      for (int c = -reach; c <= reach; ++c)
+        if ((a || b || c) && float(a * a + b * b + c * c) < supportRadius * supportRadius) count += 1.0f;
+  return std::min(count, 26.0f);
+}
+
+}  // namespace kurage::sim::solvers
