@@ -1,5 +1,6 @@
 // The pressure solvers' registry: one line per solver (sim/solvers/pressure_solver.h).
 #include "sim/solvers/dfsph/dfsph.h"
+#include "sim/solvers/iisph/iisph.h"
 #include "sim/solvers/pressure_solver.h"
 #include "sim/solvers/wcsph/wcsph.h"
 
@@ -27,6 +28,7 @@ const std::vector<Entry>& registry() {
   static const std::vector<Entry> table{
       entry<WcsphSolver, WcsphParams>("wcsph", kWcsphSummary),
       entry<DfsphSolver, DfsphParams>("dfsph", kDfsphSummary),
+      entry<IisphSolver, IisphParams>("iisph", kIisphSummary),
   };
   return table;
 }
