@@ -618,7 +618,8 @@ TEST(Collisions, FluidContactKeepsAFastFluidParticleOutOfAMembrane) {
 // the paper's parameters except k_press 2000 and h = 2 l, with the volume density sum and
 // Monaghan's pressure force; docs/PHYSICS.md has the paper's forms for comparison). The box has
 // 6 particle layers, so fractions come in steps of 1/6.
-// Each case runs with the paper's WCSPH and with DFSPH and boundary-particle walls.
+// Each case runs with the paper's WCSPH, and with DFSPH and IISPH with boundary-particle walls and a
+// hydrostatic start.
 class Archimedes : public ::testing::TestWithParam<std::tuple<float, std::string>> {};
 
 TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
@@ -629,7 +630,7 @@ TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
   p.fluid.pressureForce = PressureForce::Monaghan1992;
   p.fluid.densitySum = DensitySum::Volume;
   p.fluid.solver = solver;
-  if (solver == "dfsph") {
+  if (solver != "wcsph") {
     p.container.wallDensity = WallDensity::BoundaryParticles;
     p.fluid.initialState = InitialState::Hydrostatic;
   }
@@ -659,7 +660,10 @@ INSTANTIATE_TEST_SUITE_P(SpecificGravity, Archimedes,
                                            std::make_tuple(0.9f, std::string("wcsph")),
                                            std::make_tuple(0.5f, std::string("dfsph")),
                                            std::make_tuple(0.7f, std::string("dfsph")),
-                                           std::make_tuple(0.9f, std::string("dfsph"))),
+                                           std::make_tuple(0.9f, std::string("dfsph")),
+                                           std::make_tuple(0.5f, std::string("iisph")),
+                                           std::make_tuple(0.7f, std::string("iisph")),
+                                           std::make_tuple(0.9f, std::string("iisph"))),
                          [](const auto& info) {
                            return std::get<1>(info.param) + "_sg" +
                                   std::to_string(int(std::lround(std::get<0>(info.param) * 10)));

@@ -1,6 +1,5 @@
-// The pressure solver seam, DFSPH, boundary-particle walls and the hydrostatic start (issue:
-// incompressible solver, real walls). Label `validation` for the tank and dam-break figures,
-// the rest run in seconds.
+// The pressure solver seam, DFSPH and IISPH, boundary-particle walls and the hydrostatic start.
+// Label `validation` for the tank and dam-break figures, the rest run in seconds.
 #include "pipeline/analysis/body_measures.h"
 #include "pipeline/analysis/still_tank.h"
 #include "sim/boundary.h"
@@ -12,6 +11,7 @@
 #include "test_util.h"
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <tbb/global_control.h>
 
 #include <algorithm>
@@ -63,8 +63,7 @@ TEST(CubicSpline, IntegratesToOneAndItsGradientMatchesFiniteDifferences) {
 
 TEST(SolverRegistry, NamesTheSolversAndRefusesOthers) {
   const auto& names = pressureSolverNames();
-  EXPECT_NE(std::find(names.begin(), names.end(), "wcsph"), names.end());
-  EXPECT_NE(std::find(names.begin(), names.end(), "dfsph"), names.end());
+  for (const char* name : {"wcsph", "dfsph", "iisph"}) EXPECT_NE(std::find(names.begin(), names.end(), name), names.end());
   FluidParams f;
   EXPECT_THROW(f.solver = "pcisph", std::invalid_argument);
   EXPECT_THROW(f.solver.as<DfsphParams>(), std::logic_error) << "WCSPH's parameters are not DFSPH's";
@@ -174,6 +173,9 @@ TEST(WallWeights, GiveDfsphTheTermsBoundaryParticlesGive) {
 //   WCSPH"): surface 0.27 % / 0.67 % (0.28-0.29 % / 0.68-0.69 %), slabs 1.72 % / 2.06 %
 //   (1.70-1.79 % / 2.66-2.86 %); with the gradient correction 0.04 % / 0.44 %, 1.02 % / 1.14 %.
 //   Asserted at the issue's 3 %.
+// - IISPH at its defaults (0.1 %, the paper's warm start of half the last step's pressure; no
+//   divergence solve): surface 0.45 % / 0.50 %, slabs 3.93 % / 1.33 %, RMS 0.37 / 0.07 m/s.
+//   Asserted at 0.7 % and 5 % / 2.5 %.
 // (With one-spacing layers, as until 2026-11-27: calm and corrected, both tolerances at 0.01 %,
 // 1.04 % / 1.94 %, four runs 1.04-1.58 % / 1.13-2.29 %; the defaults 2.79 % / 3.13 %; WCSPH
 // 2.23 % / 2.15 %.)
@@ -237,7 +239,9 @@ INSTANTIATE_TEST_SUITE_P(Solvers, HydrostaticTank,
                                            TankCase{"wcsph", 1.0f, false, false, 2.0, 5.0, 0.03, 0.03, 0.3},
                                            TankCase{"wcsph", 0.5f, false, false, 2.0, 5.0, 0.03, 0.03, 0.4},
                                            TankCase{"wcsph", 1.0f, true, false, 2.0, 5.0, 0.03, 0.03, 0.3},
-                                           TankCase{"wcsph", 0.5f, true, false, 2.0, 5.0, 0.03, 0.03, 0.4}),
+                                           TankCase{"wcsph", 0.5f, true, false, 2.0, 5.0, 0.03, 0.03, 0.4},
+                                           TankCase{"iisph", 1.0f, false, false, 2.0, 5.0, 0.007, 0.05, 0.6},
+                                           TankCase{"iisph", 0.5f, false, false, 2.0, 5.0, 0.007, 0.025, 0.3}),
                          [](const auto& info) {
                            return info.param.solver + (info.param.calm ? "_calm" : "") + (info.param.corrected ? "_corrected" : "") +
                                   (info.param.spacing < 1.0f ? "_half_metre" : "_one_metre");
@@ -246,7 +250,7 @@ INSTANTIATE_TEST_SUITE_P(Solvers, HydrostaticTank,
 // A hydrostatic start does not fall: over the first second the free surface moves by less than
 // 1 % of the depth, with either solver and boundary particles; a lattice start falls further.
 TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
-  for (const std::string solver : {"dfsph", "wcsph"}) {
+  for (const std::string solver : {"dfsph", "wcsph", "iisph"}) {
     Simulation sim(jellyfishTank(solver, 1.0f));
     const kurage::pipeline::HydrostaticTrack surface(sim.params(), 20.0);
     const double start = surface.freeSurface(sim.particles());
@@ -320,28 +324,34 @@ TEST(Dfsph, TheSolvesConserveMomentumWithAndWithoutTheGradientCorrection) {
   }
 }
 
-// Determinism: the solver's error sums reduce in a fixed order, so 1 and 2 threads agree bit for bit.
-TEST(Dfsph, OneAndTwoThreadsGiveIdenticalParticles) {
-  auto run = [](int threads, DivergenceSolve method, bool corrected = false) {
+// Determinism: the solvers' error sums reduce in a fixed order, so 1 and 2 threads agree bit for
+// bit: DFSPH with either divergence solve and with the gradient correction, and IISPH.
+TEST(IncompressibleSolvers, OneAndTwoThreadsGiveIdenticalParticles) {
+  auto run = [](int threads, const std::string& solver, const nlohmann::json& keys, bool corrected = false) {
     tbb::global_control limit(tbb::global_control::max_allowed_parallelism, threads);
-    SimParams p = jellyfishTank("dfsph", 1.0f, InitialState::Lattice);
+    SimParams p = jellyfishTank(solver, 1.0f, InitialState::Lattice);
     p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);  // a dam break in the tank
-    p.fluid.solver.as<DfsphParams>().divergenceSolve = method;
+    kurage::test::setSolverKeys(p.fluid, keys);
     p.fluid.gradientCorrection = corrected;
     Simulation sim(p);
     sim.advanceTo(1.0);
     return kurage::test::positionsById(sim.particles());
   };
-  const auto one = run(1, DivergenceSolve::Jacobi), two = run(2, DivergenceSolve::Jacobi);
+  const nlohmann::json none = nlohmann::json::object(), cg = {{"divergence_solve", "cg"}};
+  const auto one = run(1, "dfsph", none), two = run(2, "dfsph", none);
   ASSERT_EQ(one.size(), two.size());
   EXPECT_TRUE(one == two);
-  const auto cgOne = run(1, DivergenceSolve::ConjugateGradient), cgTwo = run(2, DivergenceSolve::ConjugateGradient);
+  const auto cgOne = run(1, "dfsph", cg), cgTwo = run(2, "dfsph", cg);
   ASSERT_EQ(cgOne.size(), cgTwo.size());
   EXPECT_TRUE(cgOne == cgTwo) << "conjugate gradients (its dot products reduce in a fixed order too)";
-  const auto gcOne = run(1, DivergenceSolve::Jacobi, true), gcTwo = run(2, DivergenceSolve::Jacobi, true);
+  const auto gcOne = run(1, "dfsph", none, true), gcTwo = run(2, "dfsph", none, true);
   ASSERT_EQ(gcOne.size(), gcTwo.size());
   EXPECT_TRUE(gcOne == gcTwo) << "gradient correction";
   EXPECT_FALSE(gcOne == one) << "the correction changes the run";
+  const auto iisphOne = run(1, "iisph", none), iisphTwo = run(2, "iisph", none);
+  ASSERT_EQ(iisphOne.size(), iisphTwo.size());
+  EXPECT_TRUE(iisphOne == iisphTwo) << "iisph";
+  EXPECT_FALSE(iisphOne == one) << "another solver, another run";
 }
 
 // The divergence solve by conjugate gradients meets the same tolerance as the Jacobi one on the
@@ -368,7 +378,7 @@ TEST(Dfsph, ConjugateGradientDivergenceSolveNeedsFewerIterations) {
 }
 
 // The solver reaches its tolerance on a dam break and reports its iterations (an unreachable
-// tolerance: DfsphHardCases.UnreachableToleranceHitsTheCapAndRunsOn, label stability).
+// tolerance: Solvers/IncompressibleHardCases.UnreachableToleranceHitsTheCapAndRunsOn, label stability).
 TEST(Dfsph, ReachesItsToleranceOnADamBreak) {
   SimParams p = jellyfishTank("dfsph", 1.0f, InitialState::Lattice);
   p.fluidBlocks[0].max = Eigen::Vector3f(8, 14, 16);

@@ -76,6 +76,18 @@ const BadScene kBadScenes[] = {
        s["fluid"]["divergence_solve"] = "cg";
        addBox(s)["coupling"] = "boundary";
      }, "bodies[0].coupling", "needs fluid.divergence_solve \"jacobi\""},
+    {"BoundaryCouplingUnderIisph", [](json& s) {
+       s["fluid"]["solver"] = "iisph";
+       addBox(s)["coupling"] = "boundary";
+     }, "bodies[0].coupling", "(fluid.solver \"dfsph\"), got \"iisph\""},
+    {"IisphWithTheGradientCorrection", [](json& s) {
+       s["fluid"]["solver"] = "iisph";
+       s["fluid"]["gradient_correction"] = true;
+     }, "fluid.gradient_correction", "iisph has no corrected kernel gradient"},
+    {"IisphRelaxationAboveOne", [](json& s) {
+       s["fluid"]["solver"] = "iisph";
+       s["fluid"]["relaxation"] = 1.5;
+     }, "fluid.relaxation", "must be <= 1, got 1.5"},
     {"UnknownCoupling", [](json& s) { addBox(s)["coupling"] = "glued"; }, "bodies[0].coupling",
      "must be one of \"solved\", \"boundary\", got \"glued\""},
     {"UnknownKernel", [](json& s) { s["fluid"]["kernel"] = "wendland"; }, "fluid.kernel",

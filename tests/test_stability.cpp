@@ -743,20 +743,23 @@ TEST(LongSettledTank, SixtySecondsStayBoundedAndComeToRest) {
   }
 }
 
-// ---- DFSPH hard cases (boundary-particle walls) ----
+// ---- The incompressible solvers' hard cases (boundary-particle walls), each with DFSPH and IISPH ----
 
 namespace {
-FluidParams dfsphFluid() {
-  FluidParams f = membraneFluid();
-  f.solver = "dfsph";
-  f.supportRadius = 2.0f;
-  return f;
-}
+class IncompressibleHardCases : public ::testing::TestWithParam<std::string> {
+protected:
+  FluidParams fluid() const {
+    FluidParams f = membraneFluid();
+    f.solver = GetParam();
+    f.supportRadius = 2.0f;
+    return f;
+  }
+};
 }  // namespace
 
-// The 20 m/s jet into a wall under DFSPH: finite, inside, and no energy beyond what the nozzle put in.
-TEST(DfsphHardCases, TwentyMetresPerSecondIntoAWall) {
-  SimParams p = jetIntoAWall(dfsphFluid());
+// The 20 m/s jet into a wall: finite, inside, and no energy beyond what the nozzle put in.
+TEST_P(IncompressibleHardCases, TwentyMetresPerSecondIntoAWall) {
+  SimParams p = jetIntoAWall(fluid());
   p.container.wallDensity = WallDensity::BoundaryParticles;
   Simulation sim(p);
   for (int f = 1; f <= 25; ++f) {
@@ -764,13 +767,13 @@ TEST(DfsphHardCases, TwentyMetresPerSecondIntoAWall) {
     expectHealthy(sim, at(sim));
     ASSERT_LE(mechanicalEnergy(sim), emittedEnergy(sim, 20.0, 4.0) * 1.001) << at(sim);
   }
-  EXPECT_EQ(test::dfsphStats(sim).densityCapHits, 0u);
+  EXPECT_EQ(test::solveCount(sim, "density").capHits, 0u);
 }
 
 // Steps at the CFL limit itself (cfl = 1: dt = l / |v|max): a dam break stays finite and inside.
-TEST(DfsphHardCases, CflOneSteps) {
+TEST_P(IncompressibleHardCases, CflOneSteps) {
   SimParams p;
-  p.fluid = dfsphFluid();
+  p.fluid = fluid();
   p.timeStep.cflFactor = 1.0f;
   p.container.max = Eigen::Vector3f(16, 4, 8);
   p.container.wallDensity = WallDensity::BoundaryParticles;
@@ -782,19 +785,19 @@ TEST(DfsphHardCases, CflOneSteps) {
 // An unreachable tolerance (1e-6 %) with an iteration cap of 3: every step hits the cap and is
 // counted (run.json reports the count, with a warning), and the dam break stays finite, inside and
 // without energy gained.
-TEST(DfsphHardCases, UnreachableToleranceHitsTheCapAndRunsOn) {
+TEST_P(IncompressibleHardCases, UnreachableToleranceHitsTheCapAndRunsOn) {
   SimParams p;
-  p.fluid = dfsphFluid();
-  p.fluid.solver.as<DfsphParams>().maxDensityError = 1e-6f;
-  p.fluid.solver.as<DfsphParams>().maxIterations = 3;
+  p.fluid = fluid();
+  test::setSolverKeys(p.fluid, {{"max_density_error", 1e-6}, {"max_iterations", 3}});
   p.container.max = Eigen::Vector3f(20, 14, 24.5f);
   p.container.wallDensity = WallDensity::BoundaryParticles;
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(8, 14, 16)});
   Simulation sim(p);
   ASSERT_NO_FATAL_FAILURE(runWithoutEnergyGain(sim, 20, 0.1));
-  const DfsphStats& s = test::dfsphStats(sim);
-  EXPECT_GE(s.densityCapHits + 1, s.steps) << "every step at the cap (but the first, from rest)";
-  EXPECT_EQ(s.maxDensityIterations, 3);
+  const SolveCount density = test::solveCount(sim, "density");
+  const uint64_t steps = sim.solver().counters().steps;
+  EXPECT_GE(density.capHits + 1, steps) << "every step at the cap (but the first, from rest)";
+  EXPECT_EQ(test::reportNumber(sim, "density_solve.max_iterations"), 3.0);
 }
 
 namespace {
@@ -815,17 +818,17 @@ std::pair<std::string, nlohmann::json> simThroughCli(const test::TempDir& dir, c
 
 // The same, as a user meets it: `kurage sim` finishes (exit 0), warns on stderr naming the
 // settings, and run.json counts the capped solves.
-TEST(DfsphHardCases, CliReportsTheCapHitsInRunJsonAndWarns) {
+TEST_P(IncompressibleHardCases, CliReportsTheCapHitsInRunJsonAndWarns) {
   test::TempDir dir;
   nlohmann::json scene = nlohmann::json::parse(pipeline::readText(test::sourceDir() / "tests/scenes/tiny_dam_break.json"));
-  scene["fluid"]["solver"] = "dfsph";
+  scene["fluid"]["solver"] = GetParam();
   scene["fluid"]["max_density_error"] = 1e-6;
   scene["fluid"]["max_iterations"] = 3;
   scene["container"]["wall_density"] = "boundary_particles";
   scene["output"] = {{"duration", 0.5}, {"fps", 4}};
   const auto [log, run] = simThroughCli(dir, scene);
   ASSERT_FALSE(run.is_null()) << log;
-  EXPECT_NE(log.find("warning: the dfsph solver stopped at its iteration cap"), std::string::npos) << log;
+  EXPECT_NE(log.find("warning: the " + GetParam() + " solver stopped at its iteration cap"), std::string::npos) << log;
   EXPECT_NE(log.find("fluid.max_iterations 3"), std::string::npos) << log;
   const nlohmann::json& density = run["stages"]["sim"]["solver"]["density_solve"];
   EXPECT_EQ(density["cap"], 3);
@@ -835,23 +838,22 @@ TEST(DfsphHardCases, CliReportsTheCapHitsInRunJsonAndWarns) {
 }
 
 // A column dropped onto a pinned membrane at 100 times the paper's stiffness (the case of
-// StiffSprings above) under DFSPH: finite, inside, no energy gained, the solves never at their
-// caps, and the sheet stays up. (Measured over 4 s: the sheet's lowest point at 2.8 m, and 16 of
+// StiffSprings above): finite, inside, no energy gained, the solves never at their caps, and the
+// sheet stays up. (Measured over 4 s under DFSPH: the sheet's lowest point at 2.8 m, and 16 of
 // the 32 fluid particles through its three half-spacing layers by then; the WCSPH case above, with
 // the paper's fluid, lets all 32 through by 2 s. The leak test is membrane.json's, Membrane.*.)
-TEST(DfsphHardCases, ColumnDroppedOntoAPinnedMembrane) {
+TEST_P(IncompressibleHardCases, ColumnDroppedOntoAPinnedMembrane) {
   SimParams p = columnOntoAStiffMembrane();
-  p.fluid = dfsphFluid();
+  p.fluid = fluid();
   p.container.wallDensity = WallDensity::BoundaryParticles;
   Simulation sim(p);
   const size_t count = sim.particles().size();
   ASSERT_NO_FATAL_FAILURE(runWithoutEnergyGain(sim, 40, 0.1));
   EXPECT_EQ(sim.particles().size(), count);
-  EXPECT_EQ(test::dfsphStats(sim).densityCapHits, 0u);
-  EXPECT_EQ(test::dfsphStats(sim).divergenceCapHits, 0u);
+  EXPECT_EQ(sim.solver().counters().capHits(), 0u);
   const float lowest = pipeline::kindExtent(sim.particles(), 1).min.z();
   EXPECT_GT(lowest, 2.0f) << "the sheet stays up";
-  // The held rim is no unknown of the solves (sim/solvers/dfsph.h): it carries no pressure.
+  // The held rim is no unknown of the solves (SolverContext::unsolved): it carries no pressure.
   std::vector<uint8_t> state;
   sim.bodies()->markUnsolved(sim.particles(), sim.time(), state);
   ASSERT_GT(std::count(state.begin(), state.end(), uint8_t(kHeld)), 0);
@@ -862,20 +864,23 @@ TEST(DfsphHardCases, ColumnDroppedOntoAPinnedMembrane) {
   }
 }
 
-// membrane.json under DFSPH tears (Bodies under DFSPH, docs/PHYSICS.md): `kurage sim` finishes,
-// warns that torn particles were left out of the solves, and run.json counts the steps.
-TEST(DfsphHardCases, CliReportsTornBodyParticlesAndWarns) {
+// membrane.json under an incompressible solver tears (Bodies under DFSPH, docs/PHYSICS.md): `kurage
+// sim` finishes, warns that torn particles were left out of the solves, and run.json counts the steps.
+TEST_P(IncompressibleHardCases, CliReportsTornBodyParticlesAndWarns) {
   test::TempDir dir;
   nlohmann::json scene = nlohmann::json::parse(pipeline::readText(test::sourceDir() / "scenes/membrane.json"));
   scene.erase("$schema");
-  scene["fluid"]["solver"] = "dfsph";
+  scene["fluid"]["solver"] = GetParam();
   scene["fluid"]["initial_state"] = "hydrostatic";
   scene["container"]["wall_density"] = "boundary_particles";
   scene["output"]["fps"] = 2;  // the run as the scene's, fewer caches
   const auto [log, run] = simThroughCli(dir, scene);
   ASSERT_FALSE(run.is_null()) << log;
-  EXPECT_NE(log.find("left out of the dfsph solver's unknowns; see run.json"), std::string::npos) << log;
+  EXPECT_NE(log.find("left out of the " + GetParam() + " solver's unknowns; see run.json"), std::string::npos) << log;
   const nlohmann::json& torn = run["stages"]["sim"]["solver"]["torn_body_particles"];
   EXPECT_GT(torn["steps"].get<int>(), 0);
   EXPECT_GT(torn["max_at_once"].get<int>(), 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(Solvers, IncompressibleHardCases, ::testing::Values("dfsph", "iisph"),
+                         [](const auto& info) { return info.param; });
