@@ -1,157 +1,42 @@
-// Divergence-free SPH (Bender & Koschier, "Divergence-free smoothed particle hydrodynamics",
-// SCA 2015, and "Divergence-free SPH for incompressible and highly viscous fluids", IEEE TVCG
-// 23(3), 2017): two Jacobi-style solvers on velocities, each with a per-particle factor.
-//
-// Notation (ours, one set of equations for fluid and telescopic-body particles alike, each with
-// its own rest density rho0_i, so (8)-(10) still act). With density_sum "mass" (rho_i =
-// sum_j m_j W_ij) the unknown is k_i = p_i / rho_i^2 and the pressure changes velocities by
-//   dv_i = -dt [ sum_j m_j (k_i + k_j) grad W_ij + 2 rho0_i k_i gB_i ]           (2017, eq. 7, 10)
-// With "volume" (rho_i = rho0_i sum_j V_j W_ij, V_j = m_j / rho0_j) the unknown is the pressure
-// P_i = k_i rho0_i^2 and the push is the transpose of that density's rate (the gradient of its
-// potential energy, so the system the solves iterate on is symmetric when rest densities differ):
-//   dv_i = -(dt / rho0_i) [ sum_j V_j (P_i + P_j) grad W_ij + 2 P_i gB_i ]
-// For one rest density the two are the same equation. gB_i = sum_b V_b grad W_ib over the wall's
-// boundary particles (or its lateral average from the wall weights' tables), which carry the particle's own pressure (Akinci 2012, mirrored: k_b = k_i,
-// hence the 2). With a factor 1 instead, the symmetric sum leaves a particle on a flat wall with
-// no push of its own away from it: the fluid-only part of sum_j m_j k_i grad W_ij cancels the
-// wall's term, and the neighbours above press it into the wall (measured: the floor layer sank
-// into the wall within five steps).
-// (The mass form's push with the volume form's density rate, used before, is not symmetric
-// between a body particle and the fluid: a box resting on the floor of box.json made the
-// constant-density solve diverge, its pressure growing 2.5-fold an iteration, and the run stopped
-// with a non-finite velocity after about 17 s; docs/PHYSICS.md.)
-// The density's rate of change, with w_j = m_j and s_i = 1 ("mass") or w_j = V_j, s_i = rho0_i
-// ("volume"):
-//   Drho_i/Dt = s_i [ sum_j w_j (v_i - v_j) . grad W_ij ] + 2 rho0_i v_i . gB_i    (2017, eq. 9)
-// The wall's term is counted twice here too (ours): the exact rate has 1, but then the system
-// the Jacobi iteration solves is not symmetric at walls and its pressure grew without bound in
-// a checkerboard along the tank's edges (measured); with 2 it is symmetric, and at rest, where
-// the velocities vanish, the result is the same.
-// The unknown alone (Jacobi) changes it by -dt^2 k_i D_i with the factor (2017, eq. 13)
-//   D_i = |F_i|^2 + m_i sum_j c_j |grad W_ij|^2,  F_i = sum_j w_j grad W_ij + 2 c gB_i,
-// c_j = w_j, c = rho0_i ("mass"), or c_j = V_j / rho0_j, c = 1 ("volume").
-//
-// With fluid.gradient_correction (ours; Bonet & Lok 1999's L_i, computeGradientCorrection in
-// fluid.h, handed over in the context) the rate uses the corrected gradient L_i grad W_ij and the
-// push is its transpose, so the solves stay symmetric:
-//   Drho_i/Dt = s_i sum_j w_j (v_i - v_j) . L_i grad W_ij + (the wall's term)
-//   dv_i = -dt [ sum_j w_j (k_i L_i + k_j L_j) grad W_ij + (the wall's term) ]  (/ rho0_i for "volume")
-//   D_i = |L_i sum_j w_j grad W_ij + 2 c gB_i|^2 + m_i sum_j c_j |L_i grad W_ij|^2.
-// The walls' terms keep the plain gradient (L_i = I within h of a wall). (WCSPH's force pairs
-// the two as (L_i + L_j) / 2, which is not the transpose of a corrected rate.) The push's
-// neighbour sum is formed as M_i x_i - Y_i, M_i = sum_j s_ij w_j k_j L_j, Y_i = sum_j s_ij w_j k_j
-// L_j x_j (s_ij = W'(r)/r), from nine floats a particle written once a push: 36 bytes a
-// neighbour instead of L_j's rows and x_j (measured: 75-77 -> 65-66 ms a step on bench sim's
-// dam break, 100,800 particles, 2 threads).
-//
-// Particles that are no unknowns (ours; SolverContext::unsolved, BodySystem::markUnsolved): neither
-// solve gives them a pressure or counts their error.
-// - A particle a pin holds: its velocity is the pin's, so no push moves it. Before, the solves
-//   pushed it, the pin undid the push, and the warm-started pressure of a rim particle compressed
-//   by its pinned neighbours grew step after step (8 MPa under 5 m of water) until it tore the
-//   loaded membrane of membrane.json apart (non-finite at t = 8.2 s).
-// - A telescopic body particle whose rest density (10) has fallen below a quarter of its initial
-//   one (BodySystem::kTornDensityRatio; "torn", stretched past what the solves can hold; counted
-//   in DfsphStats::tornSteps, and `kurage sim` warns). With its volume m/rho0 grown that much,
-//   its own kernel's share of its density, m_i W(0), approaches its rest density and it has few
-//   neighbours (D_i small), so no pressure brings it to rest density: its pressure grew without
-//   bound and flung it out at hundreds of m/s (the same membrane, once its rim was held, at
-//   t = 6.9 s; rho0_i fell from 112 to 82 kg/m^3, m_i W(0) = 104, in 0.05 s). It still feels its
-//   neighbours' pressure.
-//
-// Bodies as the fluid's boundary (ours; BodyParams::coupling "boundary", docs/PHYSICS.md). Such a
-// body's particles are no unknowns of either solve (kBoundary; SolverContext::boundaryBodies). The
-// fluid meets them as boundary samples (Akinci et al. 2012) of volume V_b = m_b / rho0_b, which
-// (10) grows as (L^leng)^-3 as the body stretches: the paper's "a stretched body pushes the fluid
-// away harder", in the form an incompressible fluid feels, its density sum. A fluid particle's
-// pressure is mirrored onto the sample (P_b = P_i), so a fluid-sample pair counts twice in the
-// factor, the density rate and the push, as the walls' samples do (the sample's weight w_b is
-// stored doubled). For the density rate this is a choice made for symmetry, as at the walls:
-// exact for a sample at rest, it counts a moving sample's approach twice. The sample's own
-// response in D_i is taken undoubled and unspread, an approximation. Samples have no pressure, so
-// the walls' mirrored push, their hydrostatic part and the wetted film leave them alone: the
-// fluid pushes them, the wall clamp keeps them in. The sample takes the push's reaction,
-//   m_b dv_b = -dt 2 sum_i V_b V_i P_i grad W_bi                (equal and opposite to its fluid
-// neighbours' share), but not alone: the reaction is spread over its patch, itself and its spring
-// neighbours (BodySystem::boundaryPatches), each particle q of it gaining m_b dv_b / M_b, M_b the
-// patch's mass. The patch takes the impulse the sample would have (linear momentum is kept, not
-// angular momentum about the patch; a pin takes its particle's share). A membrane carries a load on its area through its neighbours; its
-// springs (the paper's k = 30 N/m) are far too soft to pass it on within a step, and a stretched
-// sample, pushed in proportion to its grown volume with the mass it had, was thrown at hundreds
-// of m/s (docs/investigations/pressure_solvers.md): with the reactions on the samples alone, seven
-// of eight runs of membrane_dfsph.json stopped (their step under time_step.min_step) and its
-// conventional twin let all 85 poured particles through; with the spreading 0 and 54-61.
-//
-// Walls wetted by the fluid (ours): a body resting on a wall has no fluid under it, so the mirrored
-// wall alone gives it no buoyancy there, and box.json's box, released on the floor, stayed on it
-// (a real box lifts as water seeps under it; a 1 m particle cannot). Under a body particle the
-// wall's pressure is therefore at least that of a film of the fluid at rest at its height: the
-// hydrostatic extrapolation p_film(x) = mean_j (p_j + rho0 g . (x - x_j)) over the body's fluid
-// neighbours j (last step's pressures), applied as the known push
-//   dv_i = -dt max(0, p_film(x_i) - p_i) gB_i / rho0_i
-// before the constant-density solve. Fluid particles and bodies away from walls are unaffected.
-//
-// Divergence solve (after the density pass, on the current velocities): q_i = w Drho_i/Dt / D_i
-// and v_i changes by the push above with q for dt k (dt P), until the mean of
-// |Drho/Dt| dt / rho0 is below fluid.max_divergence_error (%), at most
-// max_divergence_iterations. It is warm-started with half of each fluid particle's total q of
-// the previous step (kept by id), as SPlisHSPlasH does (measured on bench sim's dam break: 8.2
-// divergence iterations a step without, 4.9 with); body particles start from 0 (warm-started
-// too, they held the contracted box of box.json 1.5 spacings above the floor). The conjugate-
-// gradient solve below starts from 0.8 of the previous q instead (ours): converged tighter, its q
-// carries over better (bench sim's dam break at max_divergence_error 0.01 % with the gradient
-// correction: 8.6 -> 5.5 divergence iterations a step; Jacobi at 0.8: 2.1 -> 2.3). Particles with
-// rho_i < 0.9 rho0_i (a free surface, a splash) are left out, as SPlisHSPlasH does with a
-// neighbour count; inside the liquid the correction is two-sided (ours: SPlisHSPlasH corrects
-// only converging flow, and a still tank then kept a bouncing mode, measured in docs/PHYSICS.md).
-//
-// With fluid.divergence_solve "cg" (ours) the same equations are solved by preconditioned
-// conjugate gradients instead. The operator A q = -Drho/Dt(-P q) (the density rate of the push of
-// q, P the push above) is self-adjoint and positive semi-definite in the inner product
-// <a, b> = sum_i c_i a_i b_i with c_i = m_i ("mass") or V_i / rho0_i ("volume"): the push is the
-// density rate's transpose in the mass-weighted product of velocities (header above), so
-// <q, A q'> = sum_i m_i (P q)_i . (P q')_i. The unknowns are the particles inside the liquid, and
-// the body particles that compress at the start of the solve (Jacobi's one-sided bodies, frozen
-// for the step); the preconditioner is 1 / D_i (Jacobi's own factor); the same stopping rule and
-// cap. One iteration costs what a Jacobi one does (a push and a density-rate sweep) plus two
-// ordered dot products. Measured on bench sim's dam break when it came in: 4.9 -> 2.3 divergence
-// iterations a step at the same tolerance, about 15 % of a step (since the density solve's
-// complementarity stop and the pressure step bound, Jacobi needs 1.6 and the two cost the same).
-// Not the default: tried as one, with the gradient correction at 0.02 %, the 0.5 m still tank and
-// the Archimedes box of specific gravity 0.7 missed their tests (docs/ACCURACY.md, "A still
-// tank"); scenes/jellyfish.json asks for it, with the correction, at 0.01 %.
-//
-// Walls also carry the hydrostatic part of their pressure (Adami, Hu & Adams 2012 for a wall at
-// rest, p_b = p_i + rho0_i g . (x_b - x_i)): its push, -dt sum_b V_b (g . (x_b - x_i)) grad W_ib,
-// does not depend on the unknowns and is applied before the constant-density solve. Without it
-// a particle at a side wall feels half the vertical pressure gradient the interior does, sinks
-// along the wall and drives a circulation that grew every step in a still tank (measured).
-//
-// Constant-density solve (on v* = v + dt a_nonpressure): the predicted density
-// rho*_i = rho_i + dt Drho_i/Dt (with v*) should be rho0_i where the particle is compressed.
-// Each iteration sets k_i <- max(0, k_i + w (rho*_i - rho0_i) / (dt^2 D_i)) with w = 1/2 (a
-// relaxed, projected Jacobi step as in IISPH, Ihmsen et al. 2014: pressure never pulls, and a
-// particle whose predicted density is below rest loses pressure; unrelaxed (w = 1), the
-// iteration diverged within a few steps on a still tank, measured) and applies the change; it
-// stops when the mean of the complementarity residual (ours: pressure >= 0, rho* = rho0 where it
-// is positive, rho* <= rho0 where it is 0), |rho*_i - rho0_i| / rho0_i where the iteration left
-// the particle a pressure and max(rho*_i - rho0_i, 0) / rho0_i where it left none, is below
-// fluid.max_density_error (%), after at least two iterations (Bender & Koschier 2017, Alg. 3), at
-// most max_iterations. (With the compression alone, as the paper counts it, an expanded column,
-// its interior below rest density but still under pressure, counted as converged.) It is warm-started with
-// each particle's pi = p / rho^2 of the previous step (kept by particle id, so sorting does not
-// lose it; k_i = pi_i, or P_i = pi_i rho0_i^2), or with the hydrostatic start's pressure. The
-// particles' `pressure` is what both solves applied in the step, p_i = (pi_i + q_i / dt) rho_i^2
-// with q the divergence solve's total (its impulse over the step): in a still tank the
-// hydrostatic load moves from the density solve into the divergence solve's warm-started q.
-//
-// Kernel: the cubic spline for the density sum and every gradient (kernels.h). Each neighbour
-// pair's W'(r)/r is computed once per step, by the density pass alongside the neighbour lists
-// (NeighborLists::slopes: it has r at hand), and every iteration forms grad W_ij from it and the
-// positions (which the solves do not move): one float a pair instead of a stored gradient's
-// three, and the same floats. Error sums
-// reduce per fixed chunk of particles, then over chunks in order: the result does not depend on
-// the number of threads.
+// Divergence-free SPH (Bender & Koschier, "Divergence-free SPH for incompressible and highly
+// viscous fluids", IEEE TVCG 23(3), 2017; SCA 2015): two relaxed Jacobi solves on velocities, each
+// with a per-particle factor. One unknown per particle, fluid and telescopic body alike, each with
+// its own rest density rho0_i: k_i = p_i / rho_i^2 with density_sum "mass" (w_j = m_j, s_i = 1,
+// c_i = rho0_i) or the pressure P_i = k_i rho0_i^2 with "volume" (w_j = V_j = m_j / rho0_j,
+// s_i = rho0_i, c_i = 1). The push is the transpose of the density rate (symmetric solves; for one
+// rest density the two forms are one equation), and the walls' pressure mirrors the particle's
+// (k_b = k_i, hence the 2s; ours, for symmetry):
+//   dv_i = -dt [sum_j w_j (k_i + k_j) grad W_ij + 2 c_i k_i gB_i]   (/ rho0_i with "volume")  (7), (10)
+//   Drho_i/Dt = s_i sum_j w_j (v_i - v_j) . grad W_ij + 2 rho0_i v_i . gB_i                    (9)
+//   D_i = |sum_j w_j grad W_ij + 2 c_i gB_i|^2 + m_i sum_j (w_j / s_j) |grad W_ij|^2            (13)
+// gB_i = sum_b V_b grad W_ib over the walls (boundary particles, or the wall weights' tables).
+// Divergence solve, after the density pass, on v: q_i += w Drho_i/Dt / D_i, applied as the push
+// with q for dt k (16), until the mean |Drho/Dt| dt / rho0 is below fluid.max_divergence_error;
+// two-sided for particles inside the liquid (rho_i >= 0.9 rho0_i), compressing body particles only;
+// warm-started with half of each fluid particle's q of the last step. fluid.divergence_solve "cg":
+// preconditioned conjugate gradients on the same operator, self-adjoint in <a, b> = sum_i
+// (w_i / s_i) a_i b_i, preconditioner 1 / D_i, warm start 0.8 q.
+// Constant-density solve, on v* = v + dt a_nonpressure: k_i <- max(0, k_i + w (rho*_i - rho0_i) /
+// (dt^2 D_i)), rho*_i = rho_i + dt Drho_i/Dt, w = 1/2 scaled by the neighbour bound
+// (solvers::relaxedNeighbours), until after two iterations at least (Alg. 3) the mean residual of
+// the complementarity problem (k >= 0; |rho* - rho0| where k > 0, the compression where k = 0; over
+// rho0) is below fluid.max_density_error; warm-started with each particle's k of the last step, by
+// id. Before it, known pushes: the walls' hydrostatic part (Adami, Hu & Adams 2012), -dt sum_b V_b
+// (g . (x_b - x_i)) grad W_ib, and under a body particle at a wall a wetting film's,
+// -dt max(0, p_film - p_i) gB_i / rho0_i, p_film the hydrostatic extrapolation of the body's fluid
+// neighbours' pressures. fluid.gradient_correction: L_i grad W_ij in the rate and its transpose in
+// the push (Bonet & Lok 1999; walls keep the plain gradient), as M_i x_i - Y_i, nine packed floats
+// a neighbour. No unknowns (SolverContext::unsolved): a held particle (its velocity is the pin's), a
+// torn telescopic one (rho0_i below a quarter of its initial value; counted), and the samples of a
+// body coupled as the boundary (Akinci et al. 2012): volume V_b = m_b / rho0_b growing with (10),
+// the fluid's pressure mirrored onto it, its reaction m_b dv_b = -dt 2 sum_i V_b V_i P_i grad W_bi
+// spread over its spring patch (linear momentum kept; the factor's own term an approximation).
+// Units: k in m^5/(kg s^2) ("mass") or Pa ("volume"); the particles' pressure is what both solves
+// applied, p_i = (k_i + q_i / dt_last) rho_i^2 (/ rho0_i^2 with "volume"), Pa. Kernel: the cubic
+// spline, its W'(r)/r per pair from the density pass. Sums reduce per chunk, then in order: the
+// result does not depend on the thread count. Limits: boundary coupling needs density_sum "volume"
+// and the Jacobi divergence solve; a still tank keeps some unrest at the default tolerances
+// (docs/PHYSICS.md); a telescopic membrane solved as unknowns tears where it stretches.
 #pragma once
 
 #include "sim/solvers/pressure_solver.h"
