@@ -74,17 +74,17 @@ void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation
   nlohmann::json bounds = nlohmann::json::object();
   for (size_t b = 0; b < size_t(sim::StepBound::Count); ++b)
     if (stats.boundCounts[b]) bounds[std::string(sim::stepBoundName(sim::StepBound(b)))] = stats.boundCounts[b];
-  nlohmann::json stageTimes = nlohmann::json::object();
-  nlohmann::json stagesRun = nlohmann::json::array();
+  nlohmann::json phaseTimes = nlohmann::json::object();
+  nlohmann::json phasesRun = nlohmann::json::array();
   double stepSeconds = 0.0;
-  for (size_t s = 0; s < size_t(sim::Stage::Count); ++s) stepSeconds += stats.stageSeconds[s];
-  for (size_t s = 0; s < size_t(sim::Stage::Count); ++s)
-    if (stats.stageRan(sim::Stage(s))) {
-      const std::string name(sim::stageName(sim::Stage(s)));
-      stagesRun.push_back(name);
-      stageTimes[name] = {{"seconds", stats.stageSeconds[s]},
-                          {"share", stepSeconds > 0.0 ? stats.stageSeconds[s] / stepSeconds : 0.0},
-                          {"calls", stats.stageCalls[s]}};
+  for (size_t s = 0; s < size_t(sim::StepPhase::Count); ++s) stepSeconds += stats.phaseSeconds[s];
+  for (size_t s = 0; s < size_t(sim::StepPhase::Count); ++s)
+    if (stats.phaseRan(sim::StepPhase(s))) {
+      const std::string name(sim::phaseName(sim::StepPhase(s)));
+      phasesRun.push_back(name);
+      phaseTimes[name] = {{"seconds", stats.phaseSeconds[s]},
+                          {"share", stepSeconds > 0.0 ? stats.phaseSeconds[s] / stepSeconds : 0.0},
+                          {"calls", stats.phaseCalls[s]}};
     }
   nlohmann::json solver = {
       {"name", scene.sim.fluid.solver.name()},
@@ -118,8 +118,8 @@ void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation
                           {"min_step_s", stats.minStep},
                           {"max_step_s", stats.maxStep},
                           {"active_bound_counts", bounds},
-                          {"stages_run", stagesRun},
-                          {"step_stages", stageTimes},
+                          {"step_phases_run", phasesRun},
+                          {"step_phases", phaseTimes},
                           {"solver", solver}});
   if (const sim::BodySystem* bodies = simulation.bodies()) {
     nlohmann::json list = nlohmann::json::array();

@@ -16,40 +16,40 @@
 
 namespace kurage::sim {
 
-std::string_view stageName(Stage stage) {
-  switch (stage) {
-    case Stage::Sort: return "neighbour_sort";
-    case Stage::Boundary: return "wall_sums";
-    case Stage::DensitySolve: return "density_solve";
-    case Stage::Density: return "density";
-    case Stage::TelescopicDensity: return "telescopic_density";
-    case Stage::Pressure: return "pressure";
-    case Stage::Forces: return "pressure_viscosity_forces";
-    case Stage::Springs: return "springs";
-    case Stage::Muscles: return "muscles";
-    case Stage::Integrate: return "integrate";
-    case Stage::Pins: return "pins";
-    case Stage::Collisions: return "collisions";
-    case Stage::Walls: return "walls";
-    case Stage::Emitters: return "emitters";
-    case Stage::Sinks: return "sinks";
-    case Stage::Count: break;
+std::string_view phaseName(StepPhase phase) {
+  switch (phase) {
+    case StepPhase::Sort: return "neighbour_sort";
+    case StepPhase::Boundary: return "wall_sums";
+    case StepPhase::DensitySolve: return "density_solve";
+    case StepPhase::Density: return "density";
+    case StepPhase::TelescopicDensity: return "telescopic_density";
+    case StepPhase::Pressure: return "pressure";
+    case StepPhase::Forces: return "pressure_viscosity_forces";
+    case StepPhase::Springs: return "springs";
+    case StepPhase::Muscles: return "muscles";
+    case StepPhase::Integrate: return "integrate";
+    case StepPhase::Pins: return "pins";
+    case StepPhase::Collisions: return "collisions";
+    case StepPhase::Walls: return "walls";
+    case StepPhase::Emitters: return "emitters";
+    case StepPhase::Sinks: return "sinks";
+    case StepPhase::Count: break;
   }
   return "?";
 }
 
 namespace {
-class StageTimer {
+class PhaseTimer {
 public:
-  StageTimer(SimStats& stats, Stage stage) : stats_(stats), stage_(stage), start_(std::chrono::steady_clock::now()) {}
-  ~StageTimer() {
-    ++stats_.stageCalls[size_t(stage_)];
-    stats_.stageSeconds[size_t(stage_)] +=
+  PhaseTimer(SimStats& stats, StepPhase phase) : stats_(stats), phase_(phase), start_(std::chrono::steady_clock::now()) {}
+  ~PhaseTimer() {
+    ++stats_.phaseCalls[size_t(phase_)];
+    stats_.phaseSeconds[size_t(phase_)] +=
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
 private:
   SimStats& stats_;
-  Stage stage_;
+  StepPhase phase_;
   std::chrono::steady_clock::time_point start_;
 };
 
@@ -211,7 +211,7 @@ void Simulation::measureDensityError() {
 }
 
 void Simulation::computeBoundaryTerms() {
-  StageTimer timer(stats_, Stage::Boundary);
+  PhaseTimer timer(stats_, StepPhase::Boundary);
   const ParticleSet& p = particles_;
   const size_t n = p.size();
   boundaryVolume_.resize(n);
@@ -233,7 +233,7 @@ void Simulation::computeBoundaryTerms() {
 }
 
 void Simulation::computeWallWeightGradient() {
-  StageTimer timer(stats_, Stage::Boundary);
+  PhaseTimer timer(stats_, StepPhase::Boundary);
   const ParticleSet& p = particles_;
   const size_t n = p.size();
   boundaryGradient_.resize(3 * n);
@@ -259,7 +259,7 @@ void Simulation::computeWallWeightGradient() {
 }
 
 void Simulation::sortParticles() {
-  StageTimer timer(stats_, Stage::Sort);
+  PhaseTimer timer(stats_, StepPhase::Sort);
   grid_.sort(particles_.x.data(), particles_.y.data(), particles_.z.data(), particles_.size(), order_);
   particles_.permute(order_, scratch_);
 }
@@ -270,7 +270,7 @@ void Simulation::computeAccelerations() {
   // (4)-(5) depend only on positions, so they run before (3): the volume-weighted density sum
   // needs the neighbours' rest densities of this step.
   if (bodies_ && bodies_->hasTelescopicDensity()) {
-    StageTimer timer(stats_, Stage::TelescopicDensity);
+    PhaseTimer timer(stats_, StepPhase::TelescopicDensity);
     bodies_->updateRestDensity(particles_);
   }
   if (bodies_ && bodies_->mayLeaveParticlesUnsolved()) bodies_->markUnsolved(particles_, time_, unsolved_);  // for the solver
@@ -282,7 +282,7 @@ void Simulation::computeAccelerations() {
     boundaryVolume = boundaryVolume_.data();
   }
   {
-    StageTimer timer(stats_, Stage::Density);
+    PhaseTimer timer(stats_, StepPhase::Density);
     if (solver_->densityKernel() == DensityKernel::Poly6)
       computeDensity(grid_, particles_, poly6_, neighbors_, wallSums_, params_.fluid.densitySum, boundaryVolume);
     else
@@ -290,13 +290,13 @@ void Simulation::computeAccelerations() {
   }
   measureDensityError();
   {
-    StageTimer timer(stats_, Stage::Pressure);
+    PhaseTimer timer(stats_, StepPhase::Pressure);
     if (solverCorrectsGradient())
       computeGradientCorrection(neighbors_, particles_, GradientKernel{&spiky_, &cubic_}, params_.container, correction_);
     solver_->afterDensity(solverContext());  // (4), or DFSPH's factors and divergence solve, ...
   }
   {
-    StageTimer timer(stats_, Stage::Forces);
+    PhaseTimer timer(stats_, StepPhase::Forces);
     const float mu = params_.fluid.restDensity * params_.fluid.kinematicViscosity;  // mu = rho0 nu
     const bool pressure = needs_.pressureForce;
     const bool correct = pressure && params_.fluid.gradientCorrection &&
@@ -312,18 +312,18 @@ void Simulation::computeAccelerations() {
 void Simulation::addBodyForces(float dt) {
   if (!bodies_) return;
   if (bodies_->hasMuscles()) {
-    StageTimer timer(stats_, Stage::Muscles);
+    PhaseTimer timer(stats_, StepPhase::Muscles);
     bodies_->addMuscleForces(particles_, time_);
   }
   {
-    StageTimer timer(stats_, Stage::Springs);
+    PhaseTimer timer(stats_, StepPhase::Springs);
     bodies_->addSpringForces(particles_, dt);  // (9), last: an implicit damper needs every other force
   }
 }
 
 void Simulation::integrate(float dt, double newTime) {
   {
-    StageTimer timer(stats_, Stage::Integrate);
+    PhaseTimer timer(stats_, StepPhase::Integrate);
     ParticleSet& p = particles_;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -332,11 +332,11 @@ void Simulation::integrate(float dt, double newTime) {
     });
   }
   if (needs_.correctsVelocities) {
-    StageTimer timer(stats_, Stage::DensitySolve);
+    PhaseTimer timer(stats_, StepPhase::DensitySolve);
     solver_->correctVelocities(solverContext(), dt);  // v* made density-preserving (DFSPH, IISPH)
   }
   {
-    StageTimer timer(stats_, Stage::Integrate);
+    PhaseTimer timer(stats_, StepPhase::Integrate);
     ParticleSet& p = particles_;
     tbb::parallel_for(tbb::blocked_range<size_t>(0, p.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
       for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -345,21 +345,21 @@ void Simulation::integrate(float dt, double newTime) {
     });
   }
   if (bodies_ && bodies_->hasPins()) {
-    StageTimer timer(stats_, Stage::Pins);
+    PhaseTimer timer(stats_, StepPhase::Pins);
     bodies_->applyPins(particles_, newTime);
   }
   if (bodies_) {
-    StageTimer timer(stats_, Stage::Collisions);
+    PhaseTimer timer(stats_, StepPhase::Collisions);
     bodies_->collide(particles_, params_.collisions.maxPasses, newTime);  // (14)
   }
   {
-    StageTimer timer(stats_, Stage::Walls);
+    PhaseTimer timer(stats_, StepPhase::Walls);
     enforceBoxWalls(particles_, params_.container, wallSums_.weights ? 0.5f * params_.fluid.spacing : 0.0f);  // (15)
   }
   time_ = newTime;
   lastStep_ = dt;
   if (!emitters_.empty()) {
-    StageTimer timer(stats_, Stage::Emitters);
+    PhaseTimer timer(stats_, StepPhase::Emitters);
     for (Emitter& e : emitters_) {
       const uint64_t blockedBefore = e.blocked();
       stats_.emitted += e.emit(time_, dt, particles_, fluidMass_, params_.fluid.restDensity, nextId_);
@@ -367,7 +367,7 @@ void Simulation::integrate(float dt, double newTime) {
     }
   }
   if (!params_.sinks.empty()) {
-    StageTimer timer(stats_, Stage::Sinks);
+    PhaseTimer timer(stats_, StepPhase::Sinks);
     for (const SinkParams& sink : params_.sinks) stats_.removed += applySink(sink, particles_, sinkFlags_);
   }
   ++stats_.steps;

@@ -1,15 +1,16 @@
 // One simulation: particles, neighbour grid and parameters, advanced in the paper's step order
 // (SPEC §4). Owns all of its state; several simulations can live in one process.
 //
-// Step (written once, in step() and advanceTo()): 1-2 sort into buckets, the walls' sums for the
-// solver (boundary particles; under DFSPH also the wall weights' tables), 4-5 rest density of telescopic
-// bodies, 3 density, 6 pressure (the pressure solver's afterDensity: WCSPH's equation of state,
-// or DFSPH's factors and divergence solve), 7-8 pressure (WCSPH) and viscosity forces, 9 springs
-// (and muscles), 10 gravity, 11 acceleration, 12 v += a dt, the solver's velocity correction
-// (DFSPH's constant-density solve), 13 x += v dt (symplectic Euler), pins, 14 the bodies'
-// collision loop, 15 walls; then emitters add and sinks remove fluid particles. Each stage runs
-// only when the scene needs it (no bodies: no body stage; no muscles: no muscle stage; ...) and
-// its time is recorded. The pressure solvers live in sim/solvers/ behind one interface.
+// A step (written once, in step() and advanceTo()), in phases (StepPhase; the paper's numbers):
+// 1-2 sort into buckets, the walls' sums (boundary particles; the wall weights' tables when the
+// solver needs them), 4-5 rest density of telescopic bodies, 3 density, 6 pressure (the pressure
+// solver's afterDensity), 7-8 pressure (when the solver asks for a pressure force) and viscosity
+// forces, 9 springs (and muscles), 10 gravity, 11 acceleration, 12 v += a dt, the solver's
+// velocity correction (when it makes one), 13 x += v dt (symplectic Euler), pins, 14 the bodies'
+// collision loop, 15 walls; then emitters add and sinks remove fluid particles. A phase runs only
+// when the scene needs it (no bodies: no body phase; no muscles: no muscle phase; ...) and its
+// time is recorded. The pressure solver (sim/solvers/) is asked what it needs (StepNeeds), never
+// which one it is.
 #pragma once
 
 #include "sim/bodies.h"
@@ -39,27 +40,30 @@ public:
   using std::runtime_error::runtime_error;
 };
 
-enum class Stage {
+// The parts of one time step, timed apart (run.json's stages.sim.step_phases). Not the pipeline's
+// stages (sim, surface, render, export).
+enum class StepPhase {
   Sort, Boundary, Density, TelescopicDensity, Pressure, Forces, Springs, Muscles, Integrate, DensitySolve, Pins,
   Collisions, Walls, Emitters, Sinks, Count
 };
-std::string_view stageName(Stage stage);
+std::string_view phaseName(StepPhase phase);
 
 struct SimStats {
   uint64_t steps = 0;
   double minStep = 0.0;
   double maxStep = 0.0;
   std::array<uint64_t, size_t(StepBound::Count)> boundCounts{};
-  std::array<double, size_t(Stage::Count)> stageSeconds{};  // wall time per stage
-  std::array<uint64_t, size_t(Stage::Count)> stageCalls{};  // times each stage ran
+  std::array<double, size_t(StepPhase::Count)> phaseSeconds{};  // wall time per phase
+  std::array<uint64_t, size_t(StepPhase::Count)> phaseCalls{};    // times each phase ran
   uint64_t emitted = 0;         // particles spawned by emitters
   uint64_t emitterBlocked = 0;  // emitter positions skipped because a particle was there
   uint64_t removed = 0;         // particles removed by sinks
   // Compression of the fluid measured by each step's density pass: the mean over fluid particles
-  // of max(rho_i - rho0_i, 0) / rho0_i (the error DFSPH bounds), summed over steps, and its largest.
+  // of max(rho_i - rho0_i, 0) / rho0_i (the error incompressible solvers bound), summed over steps,
+  // and its largest.
   double densityErrorSum = 0.0;
   double densityErrorMax = 0.0;
-  bool stageRan(Stage s) const { return stageCalls[size_t(s)] > 0; }
+  bool phaseRan(StepPhase s) const { return phaseCalls[size_t(s)] > 0; }
 };
 
 class Simulation {

@@ -251,7 +251,7 @@ TEST(Muscles, ContractingForceShrinksAndExpandingForceSwellsABody) {
       EXPECT_GT(after, 1.03 * before) << "expansion";
       EXPECT_LT(factor, 0.95) << "an expanded body is lighter";
     }
-    EXPECT_TRUE(sim.stats().stageRan(Stage::Muscles));
+    EXPECT_TRUE(sim.stats().phaseRan(StepPhase::Muscles));
   }
 }
 
@@ -358,7 +358,7 @@ TEST(Pins, AHeldBodyStaysWhereItWasBuiltUntilItsReleaseThenFalls) {
   const double z0 = pipeline::kindExtent(sim.particles(), 1).centre.z();
   sim.advanceTo(0.45);
   EXPECT_EQ(pipeline::kindExtent(sim.particles(), 1).centre.z(), z0) << "held";
-  EXPECT_TRUE(sim.stats().stageRan(Stage::Pins));
+  EXPECT_TRUE(sim.stats().phaseRan(StepPhase::Pins));
   sim.advanceTo(1.0);
   const double fallen = z0 - pipeline::kindExtent(sim.particles(), 1).centre.z();
   EXPECT_NEAR(fallen, 0.5 * 6.0 * 0.5 * 0.5, 0.05) << "free fall from the release at 0.5 s";
@@ -988,25 +988,25 @@ INSTANTIATE_TEST_SUITE_P(Solver, BoxSequence, ::testing::Values("wcsph", "dfsph"
 // under DFSPH it is MembraneUnderDfsph above, on scenes/membrane_dfsph.json.
 INSTANTIATE_TEST_SUITE_P(Solver, Membrane, ::testing::Values("wcsph"), kSolverName);
 
-TEST(Stages, OnlyWhatTheSceneCallsForRuns) {
+TEST(StepPhases, OnlyWhatTheSceneCallsForRun) {
   SimParams fluidOnly;
   fluidOnly.container.max = Eigen::Vector3f(6, 6, 6);
   fluidOnly.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(6, 6, 3)});
   Simulation fluid(fluidOnly);
   fluid.advanceTo(0.2);
   EXPECT_EQ(fluid.bodies(), nullptr) << "no spring data without bodies";
-  for (Stage s : {Stage::TelescopicDensity, Stage::Springs, Stage::Muscles, Stage::Pins, Stage::Collisions,
-                  Stage::Emitters, Stage::Sinks})
-    EXPECT_FALSE(fluid.stats().stageRan(s)) << stageName(s);
-  for (Stage s : {Stage::Sort, Stage::Density, Stage::Pressure, Stage::Forces, Stage::Integrate, Stage::Walls})
-    EXPECT_TRUE(fluid.stats().stageRan(s)) << stageName(s);
+  for (StepPhase s : {StepPhase::TelescopicDensity, StepPhase::Springs, StepPhase::Muscles, StepPhase::Pins, StepPhase::Collisions,
+                  StepPhase::Emitters, StepPhase::Sinks})
+    EXPECT_FALSE(fluid.stats().phaseRan(s)) << phaseName(s);
+  for (StepPhase s : {StepPhase::Sort, StepPhase::Density, StepPhase::Pressure, StepPhase::Forces, StepPhase::Integrate, StepPhase::Walls})
+    EXPECT_TRUE(fluid.stats().phaseRan(s)) << phaseName(s);
 
   SimParams bodyOnly = emptyWorld();
   bodyOnly.bodies.push_back(boxBody({4, 4, 4}, {6, 6, 6}));
   bodyOnly.bodies.back().telescopicDensity = false;
   Simulation body(bodyOnly);
   body.advanceTo(0.2);
-  for (Stage s : {Stage::Springs, Stage::Collisions}) EXPECT_TRUE(body.stats().stageRan(s)) << stageName(s);
-  for (Stage s : {Stage::TelescopicDensity, Stage::Muscles, Stage::Pins, Stage::Emitters})
-    EXPECT_FALSE(body.stats().stageRan(s)) << stageName(s);
+  for (StepPhase s : {StepPhase::Springs, StepPhase::Collisions}) EXPECT_TRUE(body.stats().phaseRan(s)) << phaseName(s);
+  for (StepPhase s : {StepPhase::TelescopicDensity, StepPhase::Muscles, StepPhase::Pins, StepPhase::Emitters})
+    EXPECT_FALSE(body.stats().phaseRan(s)) << phaseName(s);
 }

@@ -71,15 +71,15 @@ TEST(EndToEnd, TinyDamBreakThroughAllStages) {
   EXPECT_GT(run["derived"]["fluid_particle_mass_kg"], 0.0);
   EXPECT_EQ(run["parameters"]["fluid"]["kernel"], "auto");
   EXPECT_EQ(run["stages"]["sim"]["solver"]["kernel"], "mueller2003") << "auto, resolved: WCSPH with the paper's walls";
-  // A fluid-only scene runs no body stage (issue 7: only the effects a scene calls for).
-  const auto ran = [](const nlohmann::json& record, const std::string& stage) {
-    for (const auto& s : record["stages"]["sim"]["stages_run"])
-      if (s == stage) return true;
+  // A fluid-only scene runs no body phase of the step (only the effects a scene calls for).
+  const auto ran = [](const nlohmann::json& record, const std::string& phase) {
+    for (const auto& s : record["stages"]["sim"]["step_phases_run"])
+      if (s == phase) return true;
     return false;
   };
-  for (const char* stage : {"neighbour_sort", "density", "integrate", "walls"}) EXPECT_TRUE(ran(run, stage)) << stage;
-  for (const char* stage : {"telescopic_density", "springs", "muscles", "pins", "collisions", "emitters", "sinks"})
-    EXPECT_FALSE(ran(run, stage)) << stage;
+  for (const char* phase : {"neighbour_sort", "density", "integrate", "walls"}) EXPECT_TRUE(ran(run, phase)) << phase;
+  for (const char* phase : {"telescopic_density", "springs", "muscles", "pins", "collisions", "emitters", "sinks"})
+    EXPECT_FALSE(ran(run, phase)) << phase;
   EXPECT_FALSE(run["stages"]["sim"].contains("bodies"));
   EXPECT_TRUE(fs::exists(out / "tiny_dam_break.mp4") || log.find("ffmpeg is not on the PATH") != std::string::npos) << log;
 
@@ -232,9 +232,9 @@ TEST(EndToEnd, HelpOnEverySubcommand) {
 TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
   test::TempDir dir;
   const std::filesystem::path log = dir.path() / "bench.txt";
-  auto densityIterations = [&](const char* tolerance) {
-    EXPECT_EQ(test::runKurage(std::string("bench sim --particles 400 --threads 1 --steps 4 --solver dfsph --warmup-time 0.3 "
-                                          "--json --max-density-error ") + tolerance, log), 0)
+  auto densityIterations = [&](const char* tolerance, const std::string& solver = "dfsph") {
+    EXPECT_EQ(test::runKurage("bench sim --particles 400 --threads 1 --steps 4 --solver " + solver + " --warmup-time 0.3 "
+                              "--json --max-density-error " + tolerance, log), 0)
         << pipeline::readText(log);
     const nlohmann::json out = nlohmann::json::parse(pipeline::readText(log));
     EXPECT_FLOAT_EQ(out.at("max_density_error_percent").get<float>(), std::stof(tolerance));
@@ -443,9 +443,9 @@ TEST(EndToEnd, QualityOptionsOverrideTheScene) {
   EXPECT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --spp 0", dir.path() / "log.txt"), 2);
 }
 
-TEST(EndToEnd, RunJsonListsTheStagesABodyOnlySceneRan) {
-  // A body without fluid, muscles, pins or emitters (issue 7): springs and collisions run, the
-  // optional body stages and the fluid sources do not.
+TEST(EndToEnd, RunJsonListsTheStepPhasesABodyOnlySceneRan) {
+  // A body without fluid, muscles, pins or emitters: springs and collisions run, the optional body
+  // phases and the fluid sources do not.
   test::TempDir dir;
   const fs::path scene = dir.path() / "body_only.json";
   {
@@ -459,11 +459,11 @@ TEST(EndToEnd, RunJsonListsTheStagesABodyOnlySceneRan) {
       << pipeline::readText(dir.path() / "log.txt");
   const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   std::set<std::string> ran;
-  for (const auto& s : run["stages"]["sim"]["stages_run"]) ran.insert(s.get<std::string>());
-  for (const char* stage : {"springs", "collisions", "integrate", "walls"}) EXPECT_TRUE(ran.count(stage)) << stage;
-  for (const char* stage : {"telescopic_density", "muscles", "pins", "emitters", "sinks"}) EXPECT_FALSE(ran.count(stage)) << stage;
-  for (const auto& [stage, figures] : run["stages"]["sim"]["step_stages"].items())
-    EXPECT_TRUE(ran.count(stage)) << "timed but not run: " << stage;
+  for (const auto& s : run["stages"]["sim"]["step_phases_run"]) ran.insert(s.get<std::string>());
+  for (const char* phase : {"springs", "collisions", "integrate", "walls"}) EXPECT_TRUE(ran.count(phase)) << phase;
+  for (const char* phase : {"telescopic_density", "muscles", "pins", "emitters", "sinks"}) EXPECT_FALSE(ran.count(phase)) << phase;
+  for (const auto& [phase, figures] : run["stages"]["sim"]["step_phases"].items())
+    EXPECT_TRUE(ran.count(phase)) << "timed but not run: " << phase;
 }
 
 TEST(EndToEnd, PreviewQualityHalvesTheFrameAndCoarsensTheSurface) {
@@ -502,11 +502,11 @@ TEST(EndToEnd, MembraneFrameMatchesReference) {
   EXPECT_TRUE(fs::exists(out / "bodies.csv"));
   const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
   EXPECT_EQ(run["stages"]["sim"]["bodies"]["body_particles"], 432);
-  // The body stages the scene calls for ran (an emitter and pins, no muscle, no sink).
+  // The body phases of the step the scene calls for ran (an emitter and pins, no muscle, no sink).
   std::set<std::string> ran;
-  for (const auto& s : run["stages"]["sim"]["stages_run"]) ran.insert(s.get<std::string>());
-  for (const char* stage : {"telescopic_density", "springs", "pins", "collisions", "emitters"}) EXPECT_TRUE(ran.count(stage)) << stage;
-  for (const char* stage : {"muscles", "sinks"}) EXPECT_FALSE(ran.count(stage)) << stage;
+  for (const auto& s : run["stages"]["sim"]["step_phases_run"]) ran.insert(s.get<std::string>());
+  for (const char* phase : {"telescopic_density", "springs", "pins", "collisions", "emitters"}) EXPECT_TRUE(ran.count(phase)) << phase;
+  for (const char* phase : {"muscles", "sinks"}) EXPECT_FALSE(ran.count(phase)) << phase;
   test::expectMatchesReference(render::readPng(out / "frames/0006.png"), "tiny_membrane_0006", kWhittedTolerance);
 }
 

@@ -657,8 +657,8 @@ TEST(Degenerate, FluidWithoutBody) {
   ASSERT_NO_FATAL_FAILURE(runWithoutEnergyGain(sim, 20, 0.1));
   EXPECT_EQ(sim.particles().size(), count);
   EXPECT_EQ(sim.bodies(), nullptr);
-  for (Stage s : {Stage::TelescopicDensity, Stage::Springs, Stage::Muscles, Stage::Pins, Stage::Collisions})
-    EXPECT_FALSE(sim.stats().stageRan(s)) << stageName(s);
+  for (StepPhase s : {StepPhase::TelescopicDensity, StepPhase::Springs, StepPhase::Muscles, StepPhase::Pins, StepPhase::Collisions})
+    EXPECT_FALSE(sim.stats().phaseRan(s)) << phaseName(s);
 }
 
 // The whole pipeline (simulation, caches, surfaces, frames) on a scene with no particle at all

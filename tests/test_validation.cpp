@@ -88,8 +88,8 @@ TEST(Emitter, EmittedVolumeIsAreaTimesSpeedTimesTime) {
   const double expected = std::numbers::pi * 1.0 * 1.0 * 4.0 * 4.0;
   EXPECT_NEAR(volume, expected, 0.05 * expected);
   EXPECT_EQ(sim.stats().emitterBlocked, 0u);
-  EXPECT_TRUE(sim.stats().stageRan(Stage::Emitters));
-  EXPECT_FALSE(sim.stats().stageRan(Stage::Sinks));
+  EXPECT_TRUE(sim.stats().phaseRan(StepPhase::Emitters));
+  EXPECT_FALSE(sim.stats().phaseRan(StepPhase::Sinks));
   expectFiniteAndInside(sim);
 }
 

@@ -4,7 +4,7 @@
 // h = 1.5 l_avr and h = 2 l_avr) and thread count (1 and 2): builds a column of fluid at one
 // side of a tank three times its length, lets it collapse for `--warmup` steps (start-up
 // excluded), then times `--steps` adaptive steps and reports the mean neighbour count, ms per
-// step by stage and particle-steps per second. `--solver dfsph` (or `all`) adds rows for DFSPH
+// step by step phase and particle-steps per second. `--solver dfsph` (or `all`) adds rows for DFSPH
 // at the scene default tolerance (0.1 % mean density error) with boundary-particle walls, h = 2 l
 // only (its cubic spline kernel needs the larger support), with its mean iterations per step
 // (in all, and by solve); `dfsph-cg` (in `all` too) the same with the divergence solve by
@@ -116,7 +116,7 @@ struct BenchRun {
   double msPerStep = 0;
   double particleStepsPerSecond = 0;
   double bytesPerParticle = 0;
-  std::array<double, size_t(sim::Stage::Count)> stageMs{};
+  std::array<double, size_t(sim::StepPhase::Count)> phaseMs{};
 };
 
 BenchRun measure(int particles, float h, int threads, int warmup, int stepCount, const std::string& solver,
@@ -163,8 +163,8 @@ BenchRun measure(int particles, float h, int threads, int warmup, int stepCount,
   r.msPerStep = 1000.0 * seconds / steps;
   r.particleStepsPerSecond = r.particles * double(steps) / seconds;
   r.bytesPerParticle = double(simulation.memoryBytes()) / r.particles;
-  for (size_t s = 0; s < r.stageMs.size(); ++s)
-    r.stageMs[s] = 1000.0 * (simulation.stats().stageSeconds[s] - before.stageSeconds[s]) / steps;
+  for (size_t s = 0; s < r.phaseMs.size(); ++s)
+    r.phaseMs[s] = 1000.0 * (simulation.stats().phaseSeconds[s] - before.phaseSeconds[s]) / steps;
   return r;
 }
 
@@ -259,8 +259,8 @@ int benchSim(ArgParser& args) {
       for (int threads : threadCounts) {
         if (findSolverRow(solver)->solver != std::string("wcsph") && h < 2.0f) continue;
         const BenchRun r = measure(count, h, threads, warmup, steps, solver, settings);
-        nlohmann::json stages = nlohmann::json::object();
-        for (size_t s = 0; s < r.stageMs.size(); ++s) stages[std::string(sim::stageName(sim::Stage(s)))] = r.stageMs[s];
+        nlohmann::json phases = nlohmann::json::object();
+        for (size_t s = 0; s < r.phaseMs.size(); ++s) phases[std::string(sim::phaseName(sim::StepPhase(s)))] = r.phaseMs[s];
         nlohmann::json bySolve = nlohmann::json::object();
         for (const auto& [name, iterations] : r.solveIterations) bySolve[name] = iterations;
         out["runs"].push_back({{"solver", r.solver}, {"iterations_per_step", r.iterations},
@@ -270,14 +270,14 @@ int benchSim(ArgParser& args) {
                                {"timed_simulated_s", r.timedSeconds},
                                {"particles", r.particles}, {"h_over_spacing", r.hOverSpacing}, {"threads", r.threads},
                                {"mean_neighbours", r.meanNeighbours}, {"ms_per_step", r.msPerStep},
-                               {"ms_per_step_by_stage", stages},
+                               {"ms_per_step_by_phase", phases},
                                {"particle_steps_per_s", r.particleStepsPerSecond},
                                {"bytes_per_particle", r.bytesPerParticle}});
         if (!json) {
           std::printf("%10s %10zu %6.1f %7d %9.1f %9.2f %8.2f %8.2f %8.2f %10.2f %9.0f %6.2f %8.3f %9.3f\n",
                       r.solver.c_str(), r.particles, r.hOverSpacing, r.threads, r.meanNeighbours, r.msPerStep,
-                      r.stageMs[size_t(sim::Stage::Sort)], r.stageMs[size_t(sim::Stage::Density)],
-                      r.stageMs[size_t(sim::Stage::Forces)], r.particleStepsPerSecond / 1e6, r.bytesPerParticle,
+                      r.phaseMs[size_t(sim::StepPhase::Sort)], r.phaseMs[size_t(sim::StepPhase::Density)],
+                      r.phaseMs[size_t(sim::StepPhase::Forces)], r.particleStepsPerSecond / 1e6, r.bytesPerParticle,
                       r.iterations, r.simulatedPerWall, 100.0 * r.densityError);
           std::fflush(stdout);
         }

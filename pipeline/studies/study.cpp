@@ -41,12 +41,12 @@ std::string csvField(const std::string& s) {
   return out + "\"";
 }
 
-// The simulation stages that ran in any row.
-std::vector<size_t> stagesUsed(const std::vector<StudyRow>& rows) {
+// The step phases (sim::StepPhase) that ran in any row.
+std::vector<size_t> phasesUsed(const std::vector<StudyRow>& rows) {
   std::vector<size_t> used;
-  for (size_t s = 0; s < size_t(sim::Stage::Count); ++s)
+  for (size_t s = 0; s < size_t(sim::StepPhase::Count); ++s)
     for (const StudyRow& r : rows)
-      if (s < r.simStages.size() && r.simStages[s] > 0.0) {
+      if (s < r.simPhases.size() && r.simPhases[s] > 0.0) {
         used.push_back(s);
         break;
       }
@@ -58,13 +58,13 @@ bool timesRender(const StudyMeasure& m) { return m.timed == StudyTimed::Renderin
 
 std::string studyCsv(const Study& study, const std::vector<StudyRow>& rows) {
   const std::vector<std::string>& figures = study.measure->figures;
-  const std::vector<size_t> stages = stagesUsed(rows);
+  const std::vector<size_t> phases = phasesUsed(rows);
   std::ostringstream csv;
   for (const StudyKnob& k : study.knobs) csv << csvField(k.name) << ",";
   csv << "status,error";
   for (const std::string& f : figures) csv << "," << f;
   csv << ",total_s,sim_s";
-  for (size_t s : stages) csv << ",sim_" << sim::stageName(sim::Stage(s)) << "_s";
+  for (size_t s : phases) csv << ",sim_" << sim::phaseName(sim::StepPhase(s)) << "_s";
   if (timesSurface(*study.measure)) csv << ",surface_s";
   if (timesRender(*study.measure)) csv << ",render_s";
   csv << ",steps,particles,message\n";
@@ -73,7 +73,7 @@ std::string studyCsv(const Study& study, const std::vector<StudyRow>& rows) {
     csv << (r.ok ? "ok" : "failed") << "," << (r.ok && study.measure->scored() ? number(r.error) : "");
     for (size_t f = 0; f < figures.size(); ++f) csv << "," << (f < r.figures.size() ? number(r.figures[f]) : "");
     csv << "," << number(r.totalSeconds) << "," << number(r.simSeconds);
-    for (size_t s : stages) csv << "," << (s < r.simStages.size() ? number(r.simStages[s]) : "");
+    for (size_t s : phases) csv << "," << (s < r.simPhases.size() ? number(r.simPhases[s]) : "");
     if (timesSurface(*study.measure)) csv << "," << number(r.surfaceSeconds);
     if (timesRender(*study.measure)) csv << "," << number(r.renderSeconds);
     csv << "," << r.steps << "," << r.particles << "," << csvField(r.message) << "\n";
@@ -116,12 +116,12 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
   md << ".\n\n";
 
   if (!study.measure->scored()) {
-    // What each variant costs, stage by stage, against the first run.
-    const std::vector<size_t> stages = stagesUsed(rows);
+    // What each variant costs, step phase by phase, against the first run.
+    const std::vector<size_t> phases = phasesUsed(rows);
     md << "| run | sim s | steps | saves vs first |";
-    for (size_t s : stages) md << " " << sim::stageName(sim::Stage(s)) << " s (share) |";
+    for (size_t s : phases) md << " " << sim::phaseName(sim::StepPhase(s)) << " s (share) |";
     md << "\n| --- | ---: | ---: | ---: |";
-    for (size_t s = 0; s < stages.size(); ++s) md << " ---: |";
+    for (size_t s = 0; s < phases.size(); ++s) md << " ---: |";
     md << "\n";
     const double base = rows.empty() ? 0.0 : rows.front().totalSeconds;
     for (const StudyRow& r : rows) {
@@ -131,7 +131,7 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
         continue;
       }
       double stepSum = 0.0;
-      for (double v : r.simStages) stepSum += v;
+      for (double v : r.simPhases) stepSum += v;
       md << shortNumber(r.totalSeconds) << " | " << r.steps << " | ";
       if (&r == &rows.front() || base <= 0.0) md << "";
       else if (r.totalSeconds <= base)
@@ -139,8 +139,8 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
       else
         md << "costs " << shortNumber(r.totalSeconds - base) << " s more (" << shortNumber(r.totalSeconds / base) << " times)";
       md << " |";
-      for (size_t s : stages) {
-        const double v = s < r.simStages.size() ? r.simStages[s] : 0.0;
+      for (size_t s : phases) {
+        const double v = s < r.simPhases.size() ? r.simPhases[s] : 0.0;
         md << " " << (v > 0.0 ? shortNumber(v) + " (" + shortNumber(100.0 * v / stepSum) + " %)" : "-") << " |";
       }
       md << "\n";
@@ -223,9 +223,9 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
   plot.width = 900;
   plot.height = 560;
   if (!study.measure->scored()) {
-    // Timing only: the seconds of each run, in the order of the runs, and of the step stages that
+    // Timing only: the seconds of each run, in the order of the runs, and of the step phases that
     // take at least 5 % of some run.
-    plot.title = study.name + ": simulation seconds by run and stage";
+    plot.title = study.name + ": simulation seconds by run and step phase";
     plot.x.label = "run";
     plot.y.label = "seconds";
     PlotSeries total;
@@ -244,22 +244,22 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
       total.pointLabels.push_back(label);
     }
     plot.series.push_back(std::move(total));
-    double offset = -0.12;  // stages side by side to the right of each run's total
-    for (size_t stage : stagesUsed(rows)) {
+    double offset = -0.12;  // phases side by side to the right of each run's total
+    for (size_t phase : phasesUsed(rows)) {
       bool large = false;
       for (const StudyRow& r : rows)
-        if (r.ok && stage < r.simStages.size() && r.simStages[stage] >= 0.05 * r.totalSeconds) large = true;
+        if (r.ok && phase < r.simPhases.size() && r.simPhases[phase] >= 0.05 * r.totalSeconds) large = true;
       if (!large) continue;
       PlotSeries s;
-      s.label = std::string(sim::stageName(sim::Stage(stage)));
+      s.label = std::string(sim::phaseName(sim::StepPhase(phase)));
       s.lines = false;
       s.markers = true;
       s.markerSize = 0.8;
       for (size_t i = 0; i < rows.size(); ++i)
-        if (rows[i].ok && stage < rows[i].simStages.size()) {
+        if (rows[i].ok && phase < rows[i].simPhases.size()) {
           s.x.push_back(double(i + 1) + offset);
-          s.y.push_back(rows[i].simStages[stage]);
-          ys.push_back(rows[i].simStages[stage]);
+          s.y.push_back(rows[i].simPhases[phase]);
+          ys.push_back(rows[i].simPhases[phase]);
         }
       plot.series.push_back(std::move(s));
       offset -= 0.04;
@@ -363,9 +363,9 @@ std::vector<StudyRow> studyRowsFromCsv(const Study& study, const std::string& cs
     r.ok = f[*column("status")] == "ok";
     r.error = number(f, column("error"));
     for (const std::string& name : figures) r.figures.push_back(number(f, column(name)));
-    r.simStages.assign(size_t(sim::Stage::Count), 0.0);
-    for (size_t s = 0; s < size_t(sim::Stage::Count); ++s)
-      r.simStages[s] = number(f, column("sim_" + std::string(sim::stageName(sim::Stage(s))) + "_s"));
+    r.simPhases.assign(size_t(sim::StepPhase::Count), 0.0);
+    for (size_t s = 0; s < size_t(sim::StepPhase::Count); ++s)
+      r.simPhases[s] = number(f, column("sim_" + std::string(sim::phaseName(sim::StepPhase(s))) + "_s"));
     r.totalSeconds = number(f, column("total_s"));
     r.simSeconds = number(f, column("sim_s"));
     r.surfaceSeconds = number(f, column("surface_s"));

@@ -4,7 +4,7 @@
 // error the user accepts. `kurage study STUDY.json -o OUT` runs every combination of the knob
 // values and writes, atomically:
 //   OUT/study.csv  one row per run: knob values, status, error, the measure's own figures, wall
-//                  seconds per stage (each simulation stage from sim::SimStats, surfacing,
+//                  seconds per stage (each phase of the simulation step from sim::SimStats, surfacing,
 //                  rendering) and the total of the timed stages
 //   OUT/study.png  error against the timed seconds (log axes where the data spans a decade or
 //                  more), each point labelled with its knob value, the accepted error as a line
@@ -113,7 +113,7 @@ struct StudyRow {
   std::string message;  // why the run failed
   double error = 0.0;
   std::vector<double> figures;     // the measure's own columns (StudyMeasure::figures)
-  std::vector<double> simStages;   // seconds per sim::Stage
+  std::vector<double> simPhases;   // seconds per sim::StepPhase
   double simSeconds = 0.0, surfaceSeconds = 0.0, renderSeconds = 0.0;
   double totalSeconds = 0.0;  // of the stages the measure times
   uint64_t steps = 0;

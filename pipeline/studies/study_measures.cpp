@@ -77,7 +77,7 @@ SimOutcome simulateToEnd(const Scene& scene, double duration) {
 // The run's simulation figures, and the simulation as the timed stage.
 void takeSimFigures(StudyRow& row, const SimOutcome& sim) {
   row.simSeconds = sim.seconds;
-  row.simStages.assign(sim.stats.stageSeconds.begin(), sim.stats.stageSeconds.end());
+  row.simPhases.assign(sim.stats.phaseSeconds.begin(), sim.stats.phaseSeconds.end());
   row.steps = sim.stats.steps;
   row.particles = sim.particles.size();
 }
