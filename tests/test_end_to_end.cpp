@@ -242,6 +242,7 @@ TEST(BenchSim, WarmsUpToASimulatedTimeAndRefusesBadSteps) {
     return run.at("iterations_per_step_by_solve").at("density").get<double>();
   };
   EXPECT_GT(densityIterations("0.01"), densityIterations("1")) << "the tolerance reaches the solver";
+  EXPECT_GT(densityIterations("0.01", "iisph"), densityIterations("1", "iisph")) << "iisph's too";
   // --solver dfsph-calm: the still tank's calm and corrected setting (the divergence by conjugate
   // gradients at 0.01 %, the corrected gradient) reaches the solver: its divergence solve iterates
   // more than the default's at 0.1 %.

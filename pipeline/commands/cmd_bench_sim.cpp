@@ -10,8 +10,8 @@
 // (in all, and by solve); `dfsph-cg` (in `all` too) the same with the divergence solve by
 // conjugate gradients, `dfsph-gc` (not in `all`) with fluid.gradient_correction (Bonet & Lok's
 // corrected kernel gradient), `dfsph-calm` (not in `all`) with both and the divergence tolerance
-// at 0.01 %: the still tank's "calm and corrected" setting, which scenes/jellyfish.json uses.
-// Every row
+// at 0.01 %: the still tank's "calm and corrected" setting, which scenes/jellyfish.json uses;
+// `iisph` (in `all` too) as `dfsph` for IISPH. Every row
 // also reports simulated seconds per wall second and the measured mean compression. `--cfl` and
 // `--pressure-factor` set time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each, as in
 // scenes), since the largest step a solver can take is part of its cost; `--warmup-time` warms up
@@ -42,11 +42,12 @@ struct SolverRow {
   bool gradientCorrection;     // fluid.gradient_correction
   const char* settings;        // the solver's own keys (sim/solvers/<solver>/), as JSON
 };
-constexpr std::array<SolverRow, 5> kSolverRows{{{"wcsph", "wcsph", false, "{}"},
+constexpr std::array<SolverRow, 6> kSolverRows{{{"wcsph", "wcsph", false, "{}"},
                                                 {"dfsph", "dfsph", false, "{}"},
                                                 {"dfsph-cg", "dfsph", false, R"({"divergence_solve": "cg"})"},
                                                 {"dfsph-gc", "dfsph", true, "{}"},
-                                                {"dfsph-calm", "dfsph", true, R"({"divergence_solve": "cg", "max_divergence_error": 0.01})"}}};
+                                                {"dfsph-calm", "dfsph", true, R"({"divergence_solve": "cg", "max_divergence_error": 0.01})"},
+                                                {"iisph", "iisph", false, "{}"}}};
 
 const SolverRow* findSolverRow(const std::string& name) {
   for (const SolverRow& row : kSolverRows)
@@ -173,7 +174,7 @@ BenchRun measure(int particles, float h, int threads, int warmup, int stepCount,
 int benchSim(ArgParser& args) {
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage bench sim [--particles N]... [--steps N] [--warmup N] [--threads N]\n"
-                "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|dfsph-calm|all]\n"
+                "                        [--solver wcsph|dfsph|dfsph-cg|dfsph-gc|dfsph-calm|iisph|all]\n"
                 "                        [--sound-speed-scale F]\n"
                 "                        [--cfl F] [--pressure-factor F] [--warmup-time S]\n"
                 "                        [--max-density-error P] [--max-divergence-error P] [--duration S] [--json]\n\n"
@@ -183,7 +184,8 @@ int benchSim(ArgParser& args) {
                 "0.1 %% mean density error): iterations per step and simulated seconds per wall second;\n"
                 "dfsph-cg the same with fluid.divergence_solve \"cg\" (conjugate gradients), dfsph-gc (not in\n"
                 "all) with fluid.gradient_correction (the corrected kernel gradient), dfsph-calm (not in all) with\n"
-                "both and fluid.max_divergence_error 0.01 (the still tank's calm and corrected setting).\n"
+                "both and fluid.max_divergence_error 0.01 (the still tank's calm and corrected setting);\n"
+                "iisph (in all) as dfsph for IISPH.\n"
                 "--sound-speed-scale F: WCSPH's speed of sound F times the default 10 sqrt(2 g H) (its\n"
                 "compression falls as 1/F^2, its step as 1/F; with --warmup 600 the density%% column shows it).\n"
                 "--cfl F, --pressure-factor F: time_step.cfl and DFSPH's time_step.pressure_factor (0.4 each).\n"
@@ -233,9 +235,9 @@ int benchSim(ArgParser& args) {
     settings.maxDivergenceError = float(*e);
   }
   std::vector<std::string> solvers;
-  if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg"};
+  if (solverChoice == "all") solvers = {"wcsph", "dfsph", "dfsph-cg", "iisph"};
   else if (findSolverRow(solverChoice)) solvers = {solverChoice};
-  else args.fail("--solver must be wcsph, dfsph, dfsph-cg, dfsph-gc, dfsph-calm or all");
+  else args.fail("--solver must be wcsph, dfsph, dfsph-cg, dfsph-gc, dfsph-calm, iisph or all");
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
   nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
