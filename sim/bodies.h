@@ -99,13 +99,13 @@ public:
   // t, kBoundary for the other particles of a body coupled as the fluid's boundary, kTorn for those
   // of a telescopic body whose rest density (10) has fallen below kTornDensityRatio of their
   // initial one, kSolved for every other. A solver that solves for the bodies' density leaves all
-  // three out (sim/solvers/dfsph.h). After updateRestDensity.
+  // three out (sim/solvers/dfsph/dfsph.h). After updateRestDensity.
   void markUnsolved(const ParticleSet& particles, double t, std::vector<uint8_t>& state) const;
   bool mayLeaveParticlesUnsolved() const { return hasPins() || telescopic_ || boundaryCoupled_; }
   // A body with BodyCoupling::Boundary.
   bool hasBoundaryBodies() const { return boundaryCoupled_; }
   // The particles of the bodies coupled as the fluid's boundary and each one's patch: itself and
-  // its spring neighbours, with its share m_i / (the patch's mass) (sim/solvers/dfsph.h). After
+  // its spring neighbours, with its share m_i / (the patch's mass) (sim/solvers/dfsph/dfsph.h). After
   // index().
   void boundaryPatches(const ParticleSet& particles, BoundaryBodies& out) const;
   // L^dens below which a telescopic body particle counts as torn, stretched past what a solver of

@@ -653,7 +653,7 @@ TEST_P(Archimedes, SubmergedFractionFollowsSpecificGravity) {
 
 // DFSPH: with the fluid's Jacobi relaxation the box's particles (half the fluid spacing, 8 times
 // the neighbours) made the iteration diverge and sg 0.7 and 0.9 became non-finite; the relaxation
-// now scales with the neighbour count (sim/solvers/dfsph.cpp).
+// now scales with the neighbour count (sim/solvers/dfsph/dfsph.cpp).
 INSTANTIATE_TEST_SUITE_P(SpecificGravity, Archimedes,
                          ::testing::Values(std::make_tuple(0.5f, std::string("wcsph")),
                                            std::make_tuple(0.7f, std::string("wcsph")),
@@ -670,7 +670,7 @@ INSTANTIATE_TEST_SUITE_P(SpecificGravity, Archimedes,
                          });
 
 // DFSPH, boundary-particle walls: a light box (sg 0.7) resting on the tank's floor under 6 m of
-// water rises. No fluid lies under it, so only the wetted walls (sim/solvers/dfsph.h: under a
+// water rises. No fluid lies under it, so only the wetted walls (sim/solvers/dfsph/dfsph.h: under a
 // body particle a wall carries at least the surrounding fluid's hydrostatic pressure) give it the
 // buoyancy of its bottom face; with the mirrored wall alone it stayed on the floor (box.json's
 // released box did for 7 s).
@@ -695,7 +695,7 @@ TEST(WettedWalls, DfsphBuoyantBoxLeavesTheFloor) {
 // past its release on the floor at t = 15 s: with the mass form's pressure push beside the volume
 // form's density rate, the constant-density solve diverged at a body particle on the floor (its
 // pressure growing 2.5-fold an iteration) and the run stopped at t = 16.7 s with a non-finite
-// velocity (sim/solvers/dfsph.h).
+// velocity (sim/solvers/dfsph/dfsph.h).
 TEST(BoxSequenceAsRun, DfsphStaysFiniteThroughTheReleaseOnTheFloor) {
   const pipeline::Scene scene = sceneUnderDfsph("box.json");
   Simulation sim(scene.sim);
@@ -957,7 +957,7 @@ TEST(MembraneUnderDfsph, TelescopicVolumeHoldsTheFluidTheConventionalModelLeaks)
 // walls, hydrostatic start) runs its 16 s. It went non-finite at t = 8-9 s: the solves pushed the
 // held rim, whose warm-started pressure grew step after step (8 MPa), and then a torn-off
 // particle, its rest density under a quarter of its initial one, was given a pressure without
-// bound (sim/solvers/dfsph.h). With this coupling the leak test is not met (34 of 85 get through,
+// bound (sim/solvers/dfsph/dfsph.h). With this coupling the leak test is not met (34 of 85 get through,
 // 49 with the conventional model; docs/investigations/pressure_solvers.md), so only that the run
 // completes with finite particles inside the tank is asserted; the leak is printed. The leak test
 // under DFSPH is the one above, with the sheet coupled as the fluid's boundary.
@@ -974,7 +974,7 @@ TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
     ASSERT_TRUE((x.array() >= lo.array() - 1e-3f).all() && (x.array() <= hi.array() + 1e-3f).all())
         << "particle " << p.id[i] << " outside the tank";
   }
-  EXPECT_GT(test::dfsphStats(sim).tornSteps, 0u) << "the sheet tears: what the run survives";
+  EXPECT_GT(test::dfsphStats(sim).torn.steps, 0u) << "the sheet tears: what the run survives";
   // Why it leaks (docs/PHYSICS.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): the fluid on the sheet
   // is a liquid whose pressure holds its own weight (measured 15 kPa, median, at 16 s; under WCSPH
   // 0), which presses it through the stretched sheet's holes.

@@ -123,7 +123,7 @@ INSTANTIATE_TEST_SUITE_P(Solvers, IncompressibleDamBreak,
 
 // The same solver and walls in a slice closer to the experiment's two dimensions, 16 layers deep
 // (0.8 a) instead of 4, with a wider support (h = 3 l, 92 neighbours; the solve keeps h = 2 l's
-// relaxation, sim/solvers/dfsph.cpp), the first-order kernel-gradient correction
+// relaxation, sim/solvers/dfsph/dfsph.cpp), the first-order kernel-gradient correction
 // (fluid.gradient_correction) and steps of at most 0.2 ms (DFSPH's own are about 0.6 ms here).
 // Measured 4.46 % / 4.47 %: the 5 % each (docs/PHYSICS.md, "Martin & Moyce under DFSPH":
 // every step from 0.1 to 0.3 ms and nu from 5e-4 to 7e-4 reads under 5 % on both; docs/ACCURACY.md,

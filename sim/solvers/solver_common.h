@@ -1,7 +1,7 @@
 // Pieces the iterative pressure solvers share (dfsph/, iisph/): particle data packed four floats
 // to a SIMD register, the neighbour sums of a density rate and of a pressure push over it, sums
-// reduced in a fixed order, warm starts kept by particle id, and the bound on a relaxed Jacobi
-// iteration's neighbour count.
+// reduced in a fixed order, warm starts kept by particle id, the bound on a relaxed Jacobi
+// iteration's neighbour count, and the count of torn body particles left out of the unknowns.
 //
 // Packing: a particle's position as (x, y, z, w), w its weight in the neighbours' sums (m_j, or
 // m_j / rho0_j for density_sum "volume"), its velocity as (vx, vy, vz, 0), so that a neighbour's
@@ -13,6 +13,7 @@
 
 #include "sim/neighbor_grid.h"
 #include "sim/particles.h"
+#include "sim/solvers/pressure_solver.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -21,6 +22,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace kurage::sim::solvers {
@@ -66,6 +69,17 @@ inline void storeById(const ParticleSet& p, const std::vector<float>& values, st
   forEach(p.size(), [&](size_t i) { byId[size_t(p.id[i])] = values[i]; });  // ids are unique
 }
 
+// f(i, s) for every particle i, in parallel by the neighbour lists' chunks, s pointing at its first
+// neighbour's W'(r)/r.
+template <class F>
+void forEachWithSlopes(const NeighborLists& neighbors, size_t count, F&& f) {
+  tbb::parallel_for(size_t(0), neighbors.chunkCount(), [&](size_t ch) {
+    const size_t last = std::min(count, (ch + 1) * NeighborLists::kChunk);
+    const float* s0 = neighbors.slopes(ch).data();
+    for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) f(i, s0 + neighbors.offset(i));
+  });
+}
+
 // sum_j w_j (v_i - v_j) grad W_ij per axis (the density rate's neighbour sum before its three
 // axes are added), over neighbours [begin, end) with slopes from `slope`.
 inline Float4 rateSum(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x, const Float4* v,
@@ -105,5 +119,34 @@ inline float relaxedNeighbours(float supportRadius) {
         if ((a || b || c) && float(a * a + b * b + c * c) < supportRadius * supportRadius) count += 1.0f;
   return std::min(count, 26.0f);
 }
+
+// Telescopic body particles torn (their rest density below a quarter of its initial value,
+// BodySystem::kTornDensityRatio) and so left out of a solver's unknowns: the steps that had any and
+// the most at once (run.json's torn_body_particles, and a warning).
+struct TornCount {
+  uint64_t steps = 0;
+  int most = 0;
+  void count(const uint8_t* unsolved, size_t n) {  // once a step
+    if (!unsolved) return;
+    const auto torn = std::count(unsolved, unsolved + n, uint8_t(kTorn));
+    if (torn > 0) ++steps;
+    most = std::max(most, int(torn));
+  }
+  void report(SolverReport& out) const {
+    out.add("torn_body_particles.steps", steps);
+    out.add("torn_body_particles.max_at_once", most);
+    out.add("torn_body_particles.note", "telescopic body particles stretched until their rest density fell below a "
+                                        "quarter of its initial value, left out of the solves' unknowns "
+                                        "(docs/PHYSICS.md, Bodies under DFSPH)");
+  }
+  void warn(std::vector<SolverWarning>& out, std::string_view solver, uint64_t solverSteps) const {
+    if (steps == 0) return;
+    out.push_back({"in " + std::to_string(steps) + " of " + std::to_string(solverSteps) + " steps (up to " +
+                       std::to_string(most) +
+                       " at once) telescopic body particles were stretched below a quarter of their rest density "
+                       "and left out of the " + std::string(solver) + " solver's unknowns",
+                   "torn_body_particles"});
+  }
+};
 
 }  // namespace kurage::sim::solvers

@@ -109,21 +109,12 @@ void DfsphSolver::report(SolverReport& out) const {
   out.add("divergence_solve.cap_hits", stats_.divergenceCapHits);
   out.add("divergence_solve.final_error", stats_.lastDivergenceError);
   out.add("divergence_solve.tolerance", 0.01 * params_.maxDivergenceError);
-  out.add("torn_body_particles.steps", stats_.tornSteps);
-  out.add("torn_body_particles.max_at_once", stats_.maxTorn);
-  out.add("torn_body_particles.note", "telescopic body particles stretched until their rest density fell below a "
-                                      "quarter of its initial value, left out of the solves' unknowns "
-                                      "(docs/PHYSICS.md, Bodies under DFSPH)");
+  stats_.torn.report(out);
 }
 
 std::vector<SolverWarning> DfsphSolver::warnings() const {
   std::vector<SolverWarning> w;
-  if (stats_.tornSteps)
-    w.push_back({"in " + std::to_string(stats_.tornSteps) + " of " + std::to_string(stats_.steps) + " steps (up to " +
-                     std::to_string(stats_.maxTorn) +
-                     " at once) telescopic body particles were stretched below a quarter of their rest density and "
-                     "left out of the dfsph solver's unknowns",
-                 "torn_body_particles"});
+  stats_.torn.warn(w, name(), stats_.steps);
   if (stats_.densityCapHits || stats_.divergenceCapHits)
     w.push_back({"the dfsph solver stopped at its iteration cap in " + std::to_string(stats_.densityCapHits) +
                      " density and " + std::to_string(stats_.divergenceCapHits) + " divergence solves of " +
@@ -247,11 +238,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     }
   });
   ++stats_.steps;
-  if (c.unsolved) {
-    const auto torn = std::count(c.unsolved, c.unsolved + n, uint8_t(kTorn));
-    if (torn > 0) ++stats_.tornSteps;
-    stats_.maxTorn = std::max(stats_.maxTorn, int(torn));
-  }
+  stats_.torn.count(c.unsolved, n);
   qSum_.assign(n, 0.0f);
   // Divergence solve on the current velocities (before the first step there is no step size for
   // the tolerance, and the fluid starts at rest).

@@ -80,8 +80,7 @@ struct DfsphStats {
   double lastDivergenceError = 0.0;
   double maxDensityError = 0.0;           // largest final mean density error of any step
   double sumDensityError = 0.0;           // summed over steps (mean = sum / steps)
-  uint64_t tornSteps = 0;                 // steps that left torn body particles out (SolverContext::unsolved)
-  int maxTorn = 0;                        // most torn body particles left out in one step
+  solvers::TornCount torn;                // torn body particles left out (SolverContext::unsolved)
 };
 
 class DfsphSolver final : public PressureSolver {

@@ -3,7 +3,6 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <stdexcept>
 
@@ -69,85 +68,64 @@ void IisphSolver::afterDensity(const SolverContext& c) {
     position_[i] = Float4{p.x[i], p.y[i], p.z[i], w};
     response[i] = form_ == DensitySum::Mass ? w : w / p.restDensity[i];
   });
-  tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
-    const std::vector<float>& slopes = c.neighbors.slopes(ch);  // W'(r)/r, from the density pass
-    assert(slopes.size() == c.neighbors.chunkSize(ch));
-    const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
-    for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
-      const Float4 xi = position_[i];
-      Float4 F = {0.0f, 0.0f, 0.0f, 0.0f};
-      float S = 0.0f;
-      const float* s = slopes.data() + c.neighbors.offset(i);
-      for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++s) {
-        const Float4 grad = *s * (xi - position_[*it]);  // (its fourth lane unused)
-        F += position_[*it][3] * grad;
-        const Float4 g2 = grad * grad;
-        S += response[*it] * (g2[0] + g2[1] + g2[2]);
-      }
-      if (c.boundaryGradient) {
-        const float* gb = c.boundaryGradient + 3 * i;
-        const float cw = kMirror * wallWeight(p, i);
-        F += Float4{cw * gb[0], cw * gb[1], cw * gb[2], 0.0f};
-      }
-      const float D = F[0] * F[0] + F[1] * F[1] + F[2] * F[2] + p.mass[i] * S;  // (I4)
-      const bool unknown = !c.unsolved || c.unsolved[i] == kSolved;
-      held_[i] = c.unsolved && c.unsolved[i] == kHeld;
-      const float ref = xi[3] * dRef;  // a neighbour at the kernel's steepest: D below a millionth of its is none
-      invFactor_[i] = unknown && D > 1e-6f * ref * ref ? 1.0f / D : 0.0f;
-      const float count = float(c.neighbors.end(i) - c.neighbors.begin(i));
-      relax_[i] = params_.relaxation * std::min(1.0f, neighbourBound_ / std::max(count, 1.0f));
+  solvers::forEachWithSlopes(c.neighbors, n, [&](size_t i, const float* slope) {  // W'(r)/r, from the density pass
+    const Float4 xi = position_[i];
+    Float4 F = {0.0f, 0.0f, 0.0f, 0.0f};
+    float S = 0.0f;
+    for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
+      const Float4 grad = *slope * (xi - position_[*it]);  // (its fourth lane unused)
+      F += position_[*it][3] * grad;
+      const Float4 g2 = grad * grad;
+      S += response[*it] * (g2[0] + g2[1] + g2[2]);
     }
+    if (c.boundaryGradient) {
+      const float* gb = c.boundaryGradient + 3 * i;
+      const float cw = kMirror * wallWeight(p, i);
+      F += Float4{cw * gb[0], cw * gb[1], cw * gb[2], 0.0f};
+    }
+    const float D = F[0] * F[0] + F[1] * F[1] + F[2] * F[2] + p.mass[i] * S;  // (I4)
+    const bool unknown = !c.unsolved || c.unsolved[i] == kSolved;
+    held_[i] = c.unsolved && c.unsolved[i] == kHeld;
+    const float ref = xi[3] * dRef;  // a neighbour at the kernel's steepest: D below a millionth of its is none
+    invFactor_[i] = unknown && D > 1e-6f * ref * ref ? 1.0f / D : 0.0f;
+    const float count = float(c.neighbors.end(i) - c.neighbors.begin(i));
+    relax_[i] = params_.relaxation * std::min(1.0f, neighbourBound_ / std::max(count, 1.0f));
   });
   ++stats_.steps;
-  if (c.unsolved) {
-    const auto torn = std::count(c.unsolved, c.unsolved + n, uint8_t(kTorn));
-    if (torn > 0) ++stats_.tornSteps;
-    stats_.maxTorn = std::max(stats_.maxTorn, int(torn));
-  }
+  stats_.torn.count(c.unsolved, n);
 }
 
 void IisphSolver::densityRate(const SolverContext& c, const Float4* v) {
   const ParticleSet& p = c.particles;
-  const size_t n = p.size();
-  tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
-    const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
-    const float* s0 = c.neighbors.slopes(ch).data();
-    for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
-      const Float4 sum = solvers::rateSum(c.neighbors.begin(i), c.neighbors.end(i), s0 + c.neighbors.offset(i),
-                                          position_.data(), v, position_[i], v[i]);
-      float rate = sum[0] + sum[1] + sum[2];
-      if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
-      if (c.boundaryGradient) {
-        const float* gb = c.boundaryGradient + 3 * i;
-        rate += kMirror * p.restDensity[i] * (v[i][0] * gb[0] + v[i][1] * gb[1] + v[i][2] * gb[2]);  // walls at rest
-      }
-      rate_[i] = rate;  // (I2)
+  solvers::forEachWithSlopes(c.neighbors, p.size(), [&](size_t i, const float* slope) {
+    const Float4 sum =
+        solvers::rateSum(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(), v, position_[i], v[i]);
+    float rate = sum[0] + sum[1] + sum[2];
+    if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
+    if (c.boundaryGradient) {
+      const float* gb = c.boundaryGradient + 3 * i;
+      rate += kMirror * p.restDensity[i] * (v[i][0] * gb[0] + v[i][1] * gb[1] + v[i][2] * gb[2]);  // walls at rest
     }
+    rate_[i] = rate;  // (I2)
   });
 }
 
 void IisphSolver::accelerate(const SolverContext& c, const float* k) {
   const ParticleSet& p = c.particles;
-  const size_t n = p.size();
-  tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
-    const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
-    const float* s0 = c.neighbors.slopes(ch).data();
-    for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
-      if (held_[i]) {
-        acceleration_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f};
-        continue;
-      }
-      Float4 a = solvers::pushSum(c.neighbors.begin(i), c.neighbors.end(i), s0 + c.neighbors.offset(i),
-                                  position_.data(), k, position_[i], k[i]);
-      if (c.boundaryGradient) {
-        const float* gb = c.boundaryGradient + 3 * i;
-        const float s = kMirror * wallWeight(p, i) * k[i];
-        a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
-      }
-      a[3] = 0.0f;
-      if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
-      acceleration_[i] = -a;  // (I1)
+  solvers::forEachWithSlopes(c.neighbors, p.size(), [&](size_t i, const float* slope) {
+    if (held_[i]) {
+      acceleration_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f};
+      return;
     }
+    Float4 a = solvers::pushSum(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(), k, position_[i], k[i]);
+    if (c.boundaryGradient) {
+      const float* gb = c.boundaryGradient + 3 * i;
+      const float s = kMirror * wallWeight(p, i) * k[i];
+      a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
+    }
+    a[3] = 0.0f;
+    if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
+    acceleration_[i] = -a;  // (I1)
   });
 }
 
@@ -226,20 +204,12 @@ void IisphSolver::report(SolverReport& out) const {
   out.add("density_solve.tolerance", 0.01 * params_.maxDensityError);
   out.add("density_solve.relaxation", double(params_.relaxation));
   out.add("density_solve.warm_start", double(params_.warmStart));
-  out.add("torn_body_particles.steps", stats_.tornSteps);
-  out.add("torn_body_particles.max_at_once", stats_.maxTorn);
-  out.add("torn_body_particles.note", "telescopic body particles stretched until their rest density fell below a "
-                                      "quarter of its initial value, left out of the solve's unknowns");
+  stats_.torn.report(out);
 }
 
 std::vector<SolverWarning> IisphSolver::warnings() const {
   std::vector<SolverWarning> w;
-  if (stats_.tornSteps)
-    w.push_back({"in " + std::to_string(stats_.tornSteps) + " of " + std::to_string(stats_.steps) + " steps (up to " +
-                     std::to_string(stats_.maxTorn) +
-                     " at once) telescopic body particles were stretched below a quarter of their rest density and "
-                     "left out of the iisph solver's unknowns",
-                 "torn_body_particles"});
+  stats_.torn.warn(w, name(), stats_.steps);
   if (stats_.capHits)
     w.push_back({"the iisph solver stopped at its iteration cap in " + std::to_string(stats_.capHits) + " of " +
                      std::to_string(stats_.steps) + " steps (fluid.max_iterations " +

@@ -67,8 +67,7 @@ struct IisphStats {
   double lastError = 0.0;   // the last step's final mean residual, fraction of rho0
   double maxError = 0.0;
   double sumError = 0.0;
-  uint64_t tornSteps = 0;   // steps that left torn body particles out
-  int maxTorn = 0;
+  solvers::TornCount torn;
 };
 
 class IisphSolver final : public PressureSolver {
