@@ -4,11 +4,11 @@
 # cycle (from OUT/bodies.csv). Usage: docs/make_fig5.sh OUT [T0] [FILE.png]
 #   OUT      a run of scenes/jellyfish.json (`kurage run` or `kurage sim`)
 #   T0       start of the cycle, s (default 5.5: the fourth pulse, while the bell climbs)
-#   FILE     output (default docs/jellyfish_fig5.png)
+#   FILE     output (default docs/figures/jellyfish_fig5.png)
 set -euo pipefail
 out=${1:?usage: docs/make_fig5.sh OUT [T0] [FILE.png]}
 t0=${2:-5.5}
-file=${3:-docs/jellyfish_fig5.png}
+file=${3:-docs/figures/jellyfish_fig5.png}
 here=$(cd "$(dirname "$0")/.." && pwd)
 kurage=${KURAGE:-$here/build/kurage}
 scene=$here/scenes/jellyfish.json
