@@ -105,9 +105,10 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
   std::ostringstream md;
   md << "# Study: " << study.name << "\n\n";
   if (!study.description.empty()) md << study.description << "\n\n";
-  md << "`kurage study " << study.file.generic_string() << " -o OUT";
+  // The command that regenerates the table, on a line of its own (docs/README.md, "Conventions").
+  md << "Command: `kurage study " << study.file.generic_string() << " -o OUT";
   if (options.threads > 0) md << " --threads " << options.threads;
-  md << "`: base scene `" << study.scene << "`, measure `" << study.measure->name << "`";
+  md << "`\n\nBase scene `" << study.scene << "`, measure `" << study.measure->name << "`";
   if (study.measure->scored()) md << " (" << study.measure->errorUnit << ")";
   md << ", " << shortNumber(study.duration) << " s simulated";
   if (study.measure->scored()) md << ", accepted error " << shortNumber(study.errorThreshold);
