@@ -16,6 +16,7 @@
 // RMSE between two renders that differ only in the seed, divided by sqrt(2) (the noise of one
 // render), for each light alone and for each path depth.
 #include "pipeline/commands/cli.h"
+#include "pipeline/commands/machine.h"
 #include "pipeline/io/exr.h"
 #include "pipeline/io/surface_file.h"
 #include "pipeline/analysis/image_rmse.h"
@@ -154,7 +155,8 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     return whittedReferences.emplace(skyDirections, frame.render(whittedScene, nullptr)).first->second;
   };
   const render::RenderSettings& base = frame.scene.render.settings;
-  nlohmann::json result = {{"benchmark", "render_rmse"}, {"width", base.width}, {"height", base.height},
+  nlohmann::json result = {{"benchmark", "render_rmse"}, {"machine", machineRecord()},
+                           {"width", base.width}, {"height", base.height},
                            {"threads", threads}, {"repeat", repeat}, {"reference_spp", referenceRead ? nlohmann::json(nullptr) : nlohmann::json(referenceSpp)},
                            {"reference_file", referenceFile ? nlohmann::json(*referenceFile) : nlohmann::json(nullptr)},
                            {"reference_seconds", referenceStats.seconds}, {"rows", nlohmann::json::array()}};
@@ -214,7 +216,8 @@ int benchVariance(const BenchFrame& frame, int threads, bool json) {
     s.render.environment.zenith.setZero();
   };
   const auto noArea = [](Scene& s) { s.render.areaLights.clear(); };
-  nlohmann::json result = {{"benchmark", "render_variance"}, {"spp", spp}, {"rows", nlohmann::json::array()}};
+  nlohmann::json result = {{"benchmark", "render_variance"}, {"machine", machineRecord()}, {"spp", spp},
+                           {"rows", nlohmann::json::array()}};
   if (!json) std::printf("bench render --variance: noise (RMSE, sRGB) of one %d-spp render\n", spp);
   // before (sky by BSDF, no splitting), the sky sampled alone, the default (sky sampled, split)
   for (const auto& [sampled, split] : {std::pair{false, false}, std::pair{true, false}, std::pair{true, true}}) {
@@ -354,7 +357,7 @@ int benchRender(ArgParser& args) {
   settings.samplesPerPixel = spp;
   settings.maxDepth = 8;
 
-  nlohmann::json result = {{"benchmark", "render"},
+  nlohmann::json result = {{"benchmark", "render"}, {"machine", machineRecord()},
                            {"width", settings.width},
                            {"height", settings.height},
                            {"spp", spp},

@@ -20,6 +20,7 @@
 // collapse; `--max-density-error` sets the incompressible solvers' tolerance, so that each solver
 // can be timed at its cheapest setting within a measured compression.
 #include "pipeline/commands/cli.h"
+#include "pipeline/commands/machine.h"
 #include "pipeline/scene_params.h"
 #include "sim/simulation.h"
 
@@ -240,7 +241,8 @@ int benchSim(ArgParser& args) {
   else args.fail("--solver must be wcsph, dfsph, dfsph-cg, dfsph-gc, dfsph-calm, iisph or all");
   if (!args.positionals().empty()) args.fail("unexpected argument");
 
-  nlohmann::json out = {{"benchmark", "sim"}, {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
+  nlohmann::json out = {{"benchmark", "sim"}, {"machine", machineRecord()},
+                        {"scene", "3-D dam break, column 1 x 1 x 1.6, tank 3 x 1 x 1.2"},
                         {"warmup_steps", warmup},
                         {"timed_steps", settings.duration > 0.0 ? nlohmann::json() : nlohmann::json(steps)},
                         {"sound_speed_scale", soundScale}, {"cfl", settings.cfl},

@@ -21,6 +21,7 @@
 //          neighbourhood 1.5 R, smoothing 0.9, the settings of the flat-water test)
 // and reports the fastest repetition of each.
 #include "pipeline/commands/cli.h"
+#include "pipeline/commands/machine.h"
 #include "pipeline/io/particle_cache.h"
 #include "render/particle_spheres.h"
 #include "render/surfacing.h"
@@ -197,7 +198,7 @@ int benchSurface(ArgParser& args) {
       params.radius * std::sqrt(1.0f - std::sqrt(params.threshold / params.strength));
 
   nlohmann::json out = {
-      {"benchmark", "surface"},
+      {"benchmark", "surface"}, {"machine", machineRecord()},
       {"scene", "settled tank: lattice block nx = ny = 2 nz, spacing 1, jitter +-0.05 per axis"},
       {"metaball", {{"radius", params.radius}, {"threshold", params.threshold}, {"strength", params.strength},
                     {"voxel_size", params.voxelSize}, {"half_width", params.halfWidth}}},
