@@ -6,7 +6,7 @@
 #   docs/make_performance.sh [KURAGE] [NAME ...]    run these benchmarks (default: all), then the page
 #   docs/make_performance.sh --page                 only rewrite the page from the JSON files
 # KURAGE defaults to build/kurage. NAME is one of: sim window surface render film preview. All of
-# them take about 8 minutes on 2 cores (the film is 3 of them).
+# them take about 6 minutes on 2 cores, half of it the film.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 cd "$here"
@@ -130,8 +130,9 @@ if win:
       "the next simulated second of the collapse, so that both solve the same flow: DFSPH at its "
       "default 0.1 % and in the still tank's calm and corrected setting (`dfsph-calm`), WCSPH at "
       "1.6 times its default speed of sound, the cheapest found to hold 0.1 % mean compression over "
-      "this window ([notebook](../notebook/simulation-speed.md)), at the scenes' cfl 0.4 and at cfl 1. "
-      "The ratio is simulated seconds per wall second against WCSPH's at cfl 0.4 with the same h.")
+      "this window at h = 2 l ([notebook](../notebook/simulation-speed.md); at h = 1.5 l it reads a little "
+      "above), at the scenes' cfl 0.4 and at cfl 1. The ratio is simulated seconds per wall second against "
+      "WCSPH's at cfl 0.4 with the same h.")
     w("")
     rows = [(b, r) for b in win["runs"] for r in b["runs"]]
     base = {r["h_over_spacing"]: r["simulated_s_per_wall_s"] for b, r in rows if r["solver"] == "wcsph" and abs(b["cfl"] - 0.4) < 1e-3}
