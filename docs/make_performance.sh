@@ -84,6 +84,13 @@ def measured(machine):
 def f(x, d=2): return f"{x:,.{d}f}"
 out = []
 w = out.append
+def section(title, commands):
+    """A section's heading and the line naming the command(s) that regenerate its table."""
+    w("")
+    w("## " + title)
+    w("")
+    w(commands)
+    w("")
 w("# Performance")
 w("")
 w("kurage's speed, in one place: the throughput of the simulation, the surfacing and the renderer,")
@@ -94,11 +101,7 @@ w("earlier dates and states of the code are in the [notebook](../notebook/README
 w("figures scatter by 5–15 % between runs on a shared machine.")
 sim = load("sim")
 if sim:
-    w("")
-    w("## Simulation")
-    w("")
-    w("Command: `kurage bench sim --particles 100000 --json`")
-    w("")
+    section("Simulation", "Command: `kurage bench sim --particles 100000 --json`")
     w(measured(sim["machine"]) + f" {sim['scene']}; c = 10 √(2gH) for WCSPH; "
       f"{sim['warmup_steps']} warm-up steps excluded, {sim['timed_steps']} steps timed; DFSPH at "
       f"{sim['max_density_error_percent']:.2g} % mean density error with boundary-particle walls. "
@@ -117,14 +120,10 @@ if sim:
           f"{100 * r['mean_density_error']:.3f} |")
 win = load("window")
 if win:
-    w("")
-    w("## DFSPH against WCSPH over the same window")
-    w("")
-    w("Commands: `kurage bench sim --particles 100000 --threads 2 --warmup-time 0.7 --duration 1 --solver dfsph --json`, "
+    section("DFSPH against WCSPH over the same window", "Commands: `kurage bench sim --particles 100000 --threads 2 --warmup-time 0.7 --duration 1 --solver dfsph --json`, "
       "`kurage bench sim --particles 100000 --threads 2 --warmup-time 0.7 --duration 1 --solver dfsph-calm --json`, "
       "`kurage bench sim --particles 100000 --threads 2 --warmup-time 0.7 --duration 1 --solver wcsph --sound-speed-scale 1.6 --json`, "
       "`kurage bench sim --particles 100000 --threads 2 --warmup-time 0.7 --duration 1 --solver wcsph --sound-speed-scale 1.6 --cfl 1 --json`")
-    w("")
     first = win["runs"][0]
     w(measured(first["machine"]) + " The same dam break, each solver warmed up to t = 0.7 s and timed over "
       "the next simulated second of the collapse, so that both solve the same flow: DFSPH at its "
@@ -145,11 +144,7 @@ if win:
           f"{100 * r['mean_density_error']:.3f} | {'' if ratio is None else f'{ratio:.2f}'} |")
 sur = load("surface")
 if sur:
-    w("")
-    w("## Surfacing")
-    w("")
-    w("Command: `kurage bench surface --json`")
-    w("")
+    section("Surfacing", "Command: `kurage bench surface --json`")
     mb = sur["metaball"]
     w(measured(sur["machine"]) + f" A {sur['scene']}, written once as a particle cache; blob radius "
       f"{mb['radius']:g}, threshold {mb['threshold']:.2g}, voxel {mb['voxel_size']:g}, half width {mb['half_width']:g} voxels; "
@@ -171,11 +166,7 @@ if sur:
           f"{r['clip_to_container_seconds']:.3f} | {r['anisotropic_level_set_seconds']:.3f} |")
 ren = load("render")
 if ren:
-    w("")
-    w("## Path tracer")
-    w("")
-    w("Command: `kurage bench render --json`")
-    w("")
+    section("Path tracer", "Command: `kurage bench render --json`")
     w(measured(ren["machine"]) + f" A fixed {ren['width']}×{ren['height']} scene: a metaball water heap of "
       f"{ren['triangles']:,} triangles over a checker ground with sun and sky, {ren['spp']} samples per pixel, max depth "
       f"{ren['max_depth']}. A ray is one Embree query: camera, bounce or shadow ray.")
@@ -189,11 +180,7 @@ if film:
     run = film["run"]
     stages = run.get("stages", {})
     simst = stages.get("sim", {})
-    w("")
-    w("## The default film, stage by stage")
-    w("")
-    w("Command: `kurage run scenes/jellyfish.json -o OUT --quality preview`")
-    w("")
+    section("The default film, stage by stage", "Command: `kurage run scenes/jellyfish.json -o OUT --quality preview`")
     steps = simst.get("steps", {})
     w(measured(film["machine"]) + f" The README's main command after the build: **{film['wall_s']:.0f} s** from the "
       "scene file to the MP4. Stage seconds from its `run.json`; the rest is the process start and the "
@@ -218,11 +205,7 @@ if film:
             w(f"| {name} | {what} | {st['seconds']:.1f} |")
 pre = load("preview")
 if pre:
-    w("")
-    w("## Preview")
-    w("")
-    w("Commands: `kurage sim scenes/dam_break.json -o OUT`, `kurage preview scenes/dam_break.json -o OUT --no-video`")
-    w("")
+    section("Preview", "Commands: `kurage sim scenes/dam_break.json -o OUT`, `kurage preview scenes/dam_break.json -o OUT --no-video`")
     w(measured(pre["machine"]) + f" The default dam break's {pre['frames']} frames drawn as spheres with OpenGL "
       f"({pre['gl']}): **{pre['drawing_frames_per_s']:.0f} frames/s** drawing, {pre['with_io_frames_per_s']:.0f} frames/s "
       "with reading the caches and writing the PNGs.")
