@@ -104,19 +104,21 @@ if sim:
     section("Simulation", "Command: `kurage bench sim --particles 100000 --json`")
     w(measured(sim["machine"]) + f" {sim['scene']}; c = 10 √(2gH) for WCSPH; "
       f"{sim['warmup_steps']} warm-up steps excluded, {sim['timed_steps']} steps timed; DFSPH at "
-      f"{sim['max_density_error_percent']:.2g} % mean density error with boundary-particle walls. "
+      f"{sim['max_density_error_percent']:.2g} % mean density error (DFSPH, IISPH) with boundary-particle walls. "
       "Stage columns are ms a step (sort: binning and reordering; density: neighbour search and "
       "density sum; forces: pressure and viscosity; DFSPH's solves are in the step's total only). "
+      "Iterations are a solver's a step, all its solves (DFSPH's divergence solve's apart). "
       "`sim s/s` is simulated seconds per wall second; `density %` the fluid's mean compression.")
     w("")
     w("| solver | particles | h/l | threads | neighbours | ms/step | sort | density | forces | M particle-steps/s | B/particle | iterations | of them divergence | sim s/s | density % |")
     w("| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |")
     for r in sim["runs"]:
-        st = r.get("ms_per_step_by_stage", {})
+        st = r.get("ms_per_step_by_phase", r.get("ms_per_step_by_stage", {}))
+        divergence = r.get("iterations_per_step_by_solve", {}).get("divergence", r.get("divergence_iterations_per_step", 0))
         w(f"| {r['solver']} | {r['particles']:,} | {r['h_over_spacing']:.1f} | {r['threads']} | {r['mean_neighbours']:.1f} | "
           f"{f(r['ms_per_step'])} | {f(st.get('neighbour_sort', 0))} | {f(st.get('density', 0))} | "
           f"{f(st.get('pressure_viscosity_forces', 0))} | **{f(r['particle_steps_per_s'] / 1e6)}** | {r['bytes_per_particle']:.0f} | "
-          f"{r['iterations_per_step']:.1f} | {r['divergence_iterations_per_step']:.1f} | {r['simulated_s_per_wall_s']:.3f} | "
+          f"{r['iterations_per_step']:.1f} | {divergence:.1f} | {r['simulated_s_per_wall_s']:.3f} | "
           f"{100 * r['mean_density_error']:.3f} |")
 win = load("window")
 if win:
