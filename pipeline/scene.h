@@ -180,7 +180,7 @@ struct SceneEstimate {
 inline constexpr double kBytesPerParticle = 600.0;  // simulation arrays and neighbour lists
 SceneEstimate estimateScene(const Scene& scene);
 
-// The limits a scene must stay within (docs/RELIABILITY.md); `force` lifts the soft ones.
+// The limits a scene must stay within (docs/design/reliability.md); `force` lifts the soft ones.
 struct LoadOptions {
   bool force = false;
 };

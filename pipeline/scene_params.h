@@ -81,13 +81,13 @@ void describe(V& v, sim::FluidParams& p) {
                 {"", "'mass': the paper's (3), rho_i = sum m_j W; 'volume': rho_i = rho0_i sum (m_j / rho0_j) W, the "
                      "same within one phase, but a particle at the interface of a fluid and a body of another "
                      "density or spacing sees its own rest density instead of a spurious pressure "
-                     "(docs/PHYSICS.md)"});
+                     "(docs/design/physics.md)"});
   v.enumeration("kernel", p.kernel, kSphKernel,
                 {"", "the SPH kernels: 'mueller2003' (the paper's: poly6 in the density sum, spiky in the pressure "
                      "force; wcsph only), 'cubic_spline' (one cubic spline for both, so the pressure force is the "
                      "gradient of the density's energy), or 'auto': the solver's own (cubic_spline; wcsph: mueller2003, "
                      "but cubic_spline with boundary_particles walls, where the paper's pair let a still tank gain "
-                     "energy, docs/PHYSICS.md)"});
+                     "energy, docs/design/physics.md)"});
   std::string solver = p.solver.name();
   v.enumeration("solver", solver, solverTable(), {"", solverDoc()});
   if (solver != p.solver.name()) p.solver = sim::SolverChoice(solver);  // read from the scene
@@ -254,12 +254,12 @@ void describe(V& v, sim::BodyParams& p) {
                 {"", "what the rest density follows: 'isotropic' = the paper's (8), every spring's length ratio, so a "
                      "shortened spring raises it; 'stretch_only' (ours) = min(1, (8)): a stretch lowers it as in the "
                      "paper, a shortening leaves it (a wall that a ring muscle shortens in one direction keeps its "
-                     "volume; docs/PHYSICS.md 'The jellyfish')"});
+                     "volume; docs/design/physics.md 'The jellyfish')"});
   v.enumeration("coupling", p.coupling, kBodyCoupling,
                 {"", "how the fluid's pressure meets the body: 'solved' = its particles are unknowns of the pressure "
                      "solves with their own rest density, like fluid particles (the paper's coupling); 'boundary' "
                      "(ours, dfsph) = the fluid meets them as boundary samples whose volume m / rho0 grows with (10), "
-                     "and each one's share of the pressure is spread over its spring neighbours (docs/PHYSICS.md "
+                     "and each one's share of the pressure is spread over its spring neighbours (docs/design/physics.md "
                      "'Bodies as the fluid's boundary')"});
   v.value("bending", p.bending,
           {"N/m", "chain: bending stiffness (ours): each particle is pulled toward the line through its two neighbours "
@@ -303,7 +303,7 @@ void describe(V& v, sim::TimeStepParams& p) {
                "particle i's springs", {0.0, 2.0, true, false}});
   v.value("pressure_factor", p.pressureFactor,
           {"", "incompressible solvers: dt <= factor l / sqrt(|g| H), H the fluid's depth: the explicit "
-               "oscillation of a particle among its neighbours under the hydrostatic pressure (docs/PHYSICS.md)",
+               "oscillation of a particle among its neighbours under the hydrostatic pressure (docs/design/physics.md)",
            {0.0, 2.0, true, false}});
   v.value("max_step", p.maxStep, {"s", "largest adaptive step", positive()});
   v.value("min_step", p.minStep, {"s", "floor of the adaptive step: a bound below it stops the run", positive()});
@@ -355,7 +355,7 @@ void describe(V& v, render::MetaballParams& p) {
   v.enumeration("kernel", p.kernel, kMetaballKernel,
                 {"", "'isotropic': every particle's blob is a sphere of radius R (POV-Ray's blobs); 'anisotropic': an "
                      "ellipsoid, longest axis R, that follows the spread of the particle's neighbours (Yu & Turk 2013), "
-                     "so that a sheet of particles gives a thin wall and a flat surface stays flat (docs/RENDERING.md)"});
+                     "so that a sheet of particles gives a thin wall and a flat surface stays flat (docs/design/rendering.md)"});
   v.object("anisotropy", p.anisotropy, {"", "the ellipsoids of 'anisotropic' kernels"});
 }
 
@@ -511,7 +511,7 @@ template <class V>
 void describe(V& v, render::DenoiseSettings& p) {
   v.value("enabled", p.enabled,
           {"", "path integrator: filter the frame (edge-avoiding a-trous wavelets guided by albedo and normal "
-               "buffers, docs/RENDERING.md)"});
+               "buffers, docs/design/rendering.md)"});
   v.value("iterations", p.iterations, {"", "filter passes; the widest reaches 2^(iterations+1) pixels", between(1, 10)});
   v.value("color_sigma", p.colourSigma,
           {"", "relative colour difference at which a neighbour's weight falls to 1/e, at 4 samples per pixel (it "
@@ -542,7 +542,7 @@ void describe(V& v, RenderParams& p) {
                "bending): far less noise under water, no caustics; false = exact light transport"});
   v.enumeration("integrator", p.settings.integrator, kIntegrator,
                 {"", "'path' (unbiased path tracing, noise falls with samples) or 'whitted' (deterministic: specular "
-                     "reflection and refraction trees, direct light only, noise-free; docs/RENDERING.md)"});
+                     "reflection and refraction trees, direct light only, noise-free; docs/design/rendering.md)"});
   v.value("environment_sampling", p.settings.environmentSampling,
           {"", "path integrator: sample the sky as a light (by luminance), combined with BSDF sampling by "
                "multiple importance sampling; false = the sky is found only by paths that escape"});

@@ -22,7 +22,7 @@
 // (sky, area lights, bounces) is smoothed and shadow edges stay as sharp as the samples make them
 // (the split of direct and indirect light of production denoisers, reduced to the one light
 // that needs it). On the dam break at 960 x 540 and 16 spp it took the RMSE against a converged
-// frame from 0.0163 to 0.0125 (docs/RENDERING.md).
+// frame from 0.0163 to 0.0125 (docs/design/rendering.md).
 //
 // Limits: a heuristic, biased filter: it blurs lighting detail finer than the noise (small
 // caustics, the sky's and area lights' soft shadow edges) and keeps fireflies it cannot tell
@@ -44,7 +44,7 @@ struct DenoiseSettings {
   // Defaults: the lowest RMSE against a 1,024-sample reference on the jellyfish at t = 8 s at 3
   // and 4 samples per pixel, over iterations 2-6 and the sigmas below halved and doubled; the
   // colour width then 4 -> 3, better on the dam break at both qualities and the same on the
-  // jellyfish (docs/RENDERING.md, "Denoiser").
+  // jellyfish (docs/design/rendering.md, "The denoiser").
   int iterations = 3;          // passes; the widest reaches 2^(iterations+1) pixels
   float colourSigma = 3.0f;    // relative colour difference at which a tap's weight falls to 1/e, at 4 spp
   float normalSigma = 0.6f;    // |n_p - n_q| at which it falls to 1/e

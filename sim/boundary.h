@@ -4,7 +4,7 @@
 // entered a wall is moved back onto it (zero distance). NoSlip (the paper) sets its velocity to
 // zero; FreeSlip removes only the velocity component into the wall (SPEC §8).
 //
-// Optionally (container.wall_density = "wall_weight", our choice, docs/PHYSICS.md) walls also
+// Optionally (container.wall_density = "wall_weight", our choice, docs/design/physics.md) walls also
 // take part in the SPH sums through wall weight functions after Harada, Koshizuka & Kawaguchi,
 // "Improvement of the boundary conditions in smoothed particle hydrodynamics", Computer Graphics
 // & Geometry 9(3), 2007: behind each wall lies a virtual cubic lattice of particles continuing

@@ -17,7 +17,7 @@ struct WallSums {
   const WallWeights* weights = nullptr;  // null: the paper's walls, no contribution
   ContainerParams box;
   float restDensity = 1000.0f;  // rho0 of the virtual wall particles
-  // Boundary particles under WCSPH (docs/PHYSICS.md, "Walls under WCSPH"): a fluid particle nearer
+  // Boundary particles under WCSPH (docs/design/physics.md, "Walls under WCSPH"): a fluid particle nearer
   // than penaltyRest to a wall plane of `box` is pushed back with penaltyStiffness (penaltyRest - d)
   // per unit mass (0: no push).
   float penaltyStiffness = 0.0f;  // 1/s^2
@@ -60,7 +60,7 @@ struct GradientKernel {
 // walls with its own pressure mirrored (p_b = p_i, rho_b = rho0_i; Akinci et al. 2012); a fluid
 // particle by the part of that push that is the gradient of its density's energy (p_b = 0: the
 // walls' term of -rho_i (p_i / rho_i^2) grad rho_i) and by the walls' penalty in `walls`
-// (docs/PHYSICS.md, "Walls under WCSPH": the mirrored push fed energy into a still tank).
+// (docs/design/physics.md, "Walls under WCSPH": the mirrored push fed energy into a still tank).
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, GradientKernel kernel,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,

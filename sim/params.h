@@ -31,7 +31,7 @@ enum class TimeStepMode { Fixed, Adaptive };
 enum class PressureForce {
   Mueller2003,   // (5) as in the paper: -sum m_j (p_i + p_j) / (2 rho_j) grad W. It recovers only
                  // half of grad p in the interior, so a fluid at rest carries twice the physical
-                 // pressure (docs/PHYSICS.md)
+                 // pressure (docs/design/physics.md)
   Monaghan1992,  // -rho_i sum m_j (p_i / rho_i^2 + p_j / rho_j^2) grad W: momentum-conserving and
                  // consistent (grad p of a linear field is recovered)
 };
@@ -45,7 +45,7 @@ enum class WallDensity {
                       // (sim/boundary_particles.h)
 };
 
-// How fluid blocks start (our choice, docs/PHYSICS.md "Hydrostatic start").
+// How fluid blocks start (our choice, docs/design/physics.md "Hydrostatic start").
 enum class InitialState {
   Lattice,      // every particle on the rest lattice with zero pressure: a column falls until its
                 // pressure holds it (the paper's start)
@@ -98,7 +98,7 @@ enum class DensitySum {
 // The SPH kernels of the density sum and of the pressure gradient.
 enum class SphKernel {
   Auto,         // the solver's own for the walls (PressureSolver::ownKernel: the cubic spline, but the
-                // paper's for WCSPH without boundary-particle walls; docs/PHYSICS.md, "Walls under WCSPH")
+                // paper's for WCSPH without boundary-particle walls; docs/design/physics.md, "Walls under WCSPH")
   Mueller2003,  // the paper's: poly6 in the density sum (3), spiky in the pressure force (5) (WCSPH only)
   CubicSpline,  // one cubic spline for both, so the pressure force is the gradient of the density's energy
 };
@@ -249,7 +249,7 @@ inline float ceilingFactor(float ceiling, float band, double z) {
   return float(std::clamp((double(ceiling) - z) / double(band), 0.0, 1.0));
 }
 
-// How a body's particles meet an incompressible solver's pressure (ours; docs/PHYSICS.md, "Bodies
+// How a body's particles meet an incompressible solver's pressure (ours; docs/design/physics.md, "Bodies
 // as the fluid's boundary").
 enum class BodyCoupling {
   Solved,    // unknowns of the solves with their own rest density (10), as the paper's weak
@@ -264,7 +264,7 @@ enum class TelescopicMeasure {
   Isotropic,    // the paper's (8): every spring's length ratio, shortened springs raise rho0
   StretchOnly,  // ours: min(1, (8)) -- stretch lowers rho0 as in the paper, shortening leaves it:
                 // for a wall whose muscle shortens it in one direction while it keeps its volume
-                // (docs/PHYSICS.md, The jellyfish)
+                // (docs/design/physics.md, The jellyfish)
 };
 
 enum class Damper {
@@ -287,7 +287,7 @@ struct BodyParams {
   std::string attachTo;             // chain: the body whose particles near the chain's start hold it
   float spacing = 0.5f;             // body particle spacing (diameter) / l_avr (SPEC §3.2, paper 0.5)
   float specificGravity = 1.1f;     // rho0_body / 1000 kg/m^3
-  float stiffness = 30.0f;          // k, N/m (SPEC §5: 30 membrane, 10 box, 50 jellyfish; docs/PHYSICS.md)
+  float stiffness = 30.0f;          // k, N/m (SPEC §5: 30 membrane, 10 box, 50 jellyfish; docs/design/physics.md)
   float damping = 10.0f;            // d, N s/m (SPEC §5: 10, 15, 10)
   float connectionRadius = 2.1f;    // h_spr / l_avr
   Damper damper = Damper::Implicit;
@@ -317,7 +317,7 @@ struct CollisionParams {
   int maxPasses = 32;  // cap of the collision loop
   // Fluid particles closer than this many (current) body diameters to a body particle are pushed
   // out in the same loop (ours, not the paper's: 0 = off). 1 keeps fluid out of the gaps of a
-  // body's particle lattice, which a smooth SPH pressure alone does not (docs/PHYSICS.md).
+  // body's particle lattice, which a smooth SPH pressure alone does not (docs/design/physics.md).
   float fluidContact = 0.0f;
 };
 

@@ -436,7 +436,7 @@ StepInputs currentStepInputs(const SimParams& params, const ParticleSet& p, cons
 // 0.5): a Courant number of 1, h / (c + |v|max); the explicit spring and damper limit
 // min sqrt(2 m / K), m / D (a Gershgorin bound: exact for a chain, up to about 2 times too strict
 // for a 3-D body with an implicit damper); sqrt(h / |a|max). The viscous bound keeps its default
-// factor: 1.5 times 0.125 h^2 / nu already gains energy. Measured in docs/STABILITY.md.
+// factor: 1.5 times 0.125 h^2 / nu already gains energy. Measured in docs/results/stability.md.
 constexpr float kViscousLimitFactor = 0.125f;
 // The pressure bound's edge: omega dt = 2 with the measured C ~ 6 (time_step.h), 2 / sqrt(6).
 constexpr float kPressureLimitFactor = 0.8f;

@@ -1,7 +1,7 @@
 // A simulation's state as bytes, for checkpoints (pipeline/io/checkpoint.h writes them to a
 // file; sim/ knows no files). Values are written in the machine's own representation: a
 // checkpoint is read back by the same kurage build on the same kind of machine, which the
-// checkpoint's header checks. Restoring it continues the run bit for bit (docs/RELIABILITY.md).
+// checkpoint's header checks. Restoring it continues the run bit for bit (docs/design/reliability.md).
 #pragma once
 
 #include <cstdint>

@@ -175,7 +175,7 @@ TEST(ImplicitDamper, NeverAddsEnergyAndLetsABodyFallFreely) {
   // that step (x = d (1/m_i + 1/m_q) dt = 4); at x = 1 the pair also creeps back to its rest length
   // as the overdamped spring does (time constant d / k = 1 s). At x >> 1 the split (forces, then
   // dampers) creeps too slowly; the spring step bound keeps x below about 2 zeta sqrt(2 / n)
-  // (docs/PHYSICS.md).
+  // (docs/design/physics.md).
   for (const float dt : {0.02f, 0.005f}) {
     ParticleSet p;
     p.add(0, 0, 0, 0, 0, 0, 1000, 100, 0, 1);
@@ -616,7 +616,7 @@ TEST(Collisions, FluidContactKeepsAFastFluidParticleOutOfAMembrane) {
 // Archimedes: a 3 m box dropped into a tank floats with the submerged fraction of its particles
 // within 0.1 of its specific gravity, averaged over t = 7 .. 12 s (the fluid of scenes/box.json:
 // the paper's parameters except k_press 2000 and h = 2 l, with the volume density sum and
-// Monaghan's pressure force; docs/PHYSICS.md has the paper's forms for comparison). The box has
+// Monaghan's pressure force; docs/design/physics.md has the paper's forms for comparison). The box has
 // 6 particle layers, so fractions come in steps of 1/6.
 // Each case runs with the paper's WCSPH, and with DFSPH and IISPH with boundary-particle walls and a
 // hydrostatic start.
@@ -745,7 +745,7 @@ TEST_P(BoxSequence, FollowsThePaper) {
 // The paper's Fig. 2: with the stretch-following density the membrane holds the poured fluid;
 // the conventional mass-spring model lets it slip through.
 //
-// How it holds (docs/PHYSICS.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): under WCSPH the poured
+// How it holds (docs/design/physics.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): under WCSPH the poured
 // fluid on the sheet has no pressure of its own (its particles lie loose, below rest density) and
 // the telescopic sheet, whose rest density fell as it stretched, carries it with its own pressure
 // (measured at 16 s: 39 kPa, the 90th percentile of the loaded sheet, against 0.8 kPa for the
@@ -922,7 +922,7 @@ TEST(BoundaryBodies, OneAndTwoThreadsGiveIdenticalParticles) {
 }
 
 // The paper's Fig. 2 under DFSPH: scenes/membrane_dfsph.json and its conventional twin, the sheet
-// coupled as the fluid's boundary (BodyCoupling::Boundary, docs/PHYSICS.md "Bodies as the fluid's
+// coupled as the fluid's boundary (BodyCoupling::Boundary, docs/design/physics.md "Bodies as the fluid's
 // boundary"), the paper's body parameters (k = 30 N/m) and a support of 1.6 l. The fluid meets the
 // sheet's particles by their volume m / rho0, which (10) grows as the sheet stretches: the
 // telescopic sheet holds the poured fluid, the conventional one lets it slip through. Sampled
@@ -958,7 +958,7 @@ TEST(MembraneUnderDfsph, TelescopicVolumeHoldsTheFluidTheConventionalModelLeaks)
 // held rim, whose warm-started pressure grew step after step (8 MPa), and then a torn-off
 // particle, its rest density under a quarter of its initial one, was given a pressure without
 // bound (sim/solvers/dfsph/dfsph.h). With this coupling the leak test is not met (34 of 85 get through,
-// 49 with the conventional model; docs/investigations/pressure_solvers.md), so only that the run
+// 49 with the conventional model; docs/notebook/pressure_solvers.md), so only that the run
 // completes with finite particles inside the tank is asserted; the leak is printed. The leak test
 // under DFSPH is the one above, with the sheet coupled as the fluid's boundary.
 TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
@@ -975,7 +975,7 @@ TEST(MembraneUnderDfsph, RunsItsSixteenSeconds) {
         << "particle " << p.id[i] << " outside the tank";
   }
   EXPECT_GT(test::dfsphStats(sim).torn.steps, 0u) << "the sheet tears: what the run survives";
-  // Why it leaks (docs/PHYSICS.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): the fluid on the sheet
+  // Why it leaks (docs/design/physics.md, "Why the solved coupling loses the membrane's contrast under DFSPH"): the fluid on the sheet
   // is a liquid whose pressure holds its own weight (measured 15 kPa, median, at 16 s; under WCSPH
   // 0), which presses it through the stretched sheet's holes.
   const pipeline::MembraneLoad load = pipeline::membraneLoad(p, 1, scene.sim.fluid.supportRadiusMetres());

@@ -1,7 +1,7 @@
 // Dam break against Martin & Moyce 1952 (tests/data/martin_moyce_1952.csv, a copy of
 // ../shared/data/): a column of width a = 2.25 in and height 2a collapses on a horizontal floor.
 //
-// Set-up (docs/VALIDATION.md): a/l = 20 particles across the column, 4 particle layers deep in y
+// Set-up (docs/results/validation.md): a/l = 20 particles across the column, 4 particle layers deep in y
 // between free-slip walls (a quasi-2-D slice), tank 12 a long; h = 2 l, c = 20 m/s (over 10 times
 // the surge speed of about 1.5 m/s), the consistent pressure form with wall weights, and a
 // kinematic viscosity of 5e-4 m^2/s acting as SPH's artificial viscosity (500 x water).
@@ -91,7 +91,7 @@ TEST(DamBreak, FreeSlipMatchesMartinMoyceWithin10Percent) {
 
 TEST(DamBreak, NoSlipWallsSlowTheSurge) {
   // The paper's wall (velocity zeroed on contact) acts as strong friction on the floor and the
-  // back wall: the result is reported (docs/VALIDATION.md), and it must be worse than free slip.
+  // back wall: the result is reported (docs/results/validation.md), and it must be worse than free slip.
   const Measured m = runDamBreak(WallSlip::NoSlip);
   EXPECT_GT(m.frontError, 0.10);
 }
@@ -125,8 +125,8 @@ INSTANTIATE_TEST_SUITE_P(Solvers, IncompressibleDamBreak,
 // (0.8 a) instead of 4, with a wider support (h = 3 l, 92 neighbours; the solve keeps h = 2 l's
 // relaxation, sim/solvers/dfsph/dfsph.cpp), the first-order kernel-gradient correction
 // (fluid.gradient_correction) and steps of at most 0.2 ms (DFSPH's own are about 0.6 ms here).
-// Measured 4.46 % / 4.47 %: the 5 % each (docs/PHYSICS.md, "Martin & Moyce under DFSPH":
-// every step from 0.1 to 0.3 ms and nu from 5e-4 to 7e-4 reads under 5 % on both; docs/ACCURACY.md,
+// Measured 4.46 % / 4.47 %: the 5 % each (docs/results/validation.md, "Martin & Moyce under DFSPH":
+// every step from 0.1 to 0.3 ms and nu from 5e-4 to 7e-4 reads under 5 % on both; docs/results/accuracy.md,
 // "DFSPH's support and slice": corrected at h = 2 l this slice reads 7.7 / 7.2 %, uncorrected at
 // h = 3 l 4.6 / 5.1 %).
 TEST(DamBreak, DfsphInADeeperSliceWithAWiderSupportMatchesMartinMoyceWithin5Percent) {
@@ -157,7 +157,7 @@ TEST(DamBreak, CubicSplineWithWallWeightsMatchesMartinMoyceWithin10Percent) {
 // as boundary particles do. Without the gradient the walls counted in every density but the solves
 // could not push away from them: in this slice, every particle within two spacings of a side wall,
 // the run stopped at t = 0.43 s (a step below the floor). Measured: 4.8 / 11.6 % (boundary
-// particles 4.6 / 9.9 %; without the hydrostatic term 8.7 / 6.0 %, docs/PHYSICS.md).
+// particles 4.6 / 9.9 %; without the hydrostatic term 8.7 / 6.0 %, docs/design/physics.md).
 TEST(DamBreak, DfsphWithWallWeightsMatchesMartinMoyceAsBoundaryParticlesDo) {
   const Measured m = runDamBreak(WallSlip::FreeSlip, "dfsph", WallDensity::WallWeight);
   EXPECT_EQ(m.frontPoints, 15);
@@ -168,7 +168,7 @@ TEST(DamBreak, DfsphWithWallWeightsMatchesMartinMoyceAsBoundaryParticlesDo) {
 
 // The column height is read from the column, not from spray: a lone drop above the back wall
 // (measured: a particle thrown to 0.67 a while the column stood at 0.17 a read WCSPH's column
-// error as 24 % instead of 8 %, docs/VALIDATION.md) does not count; a drop with company does.
+// error as 24 % instead of 8 %, docs/results/validation.md) does not count; a drop with company does.
 TEST(DamBreakTrack, TheColumnIgnoresALoneDropAboveIt) {
   const double a = 0.05715, l = a / 20;
   const auto column = [&](int dropCompany) {

@@ -150,7 +150,7 @@ TEST(WallWeights, GiveDfsphTheTermsBoundaryParticlesGive) {
 // two spacings thick: the pressure force on a lattice layer reads differences of the layers as far
 // above it as below, which share a parity, so a pressure alternating from layer to layer pushes
 // nothing and no solve corrects it (in the bulk); a slab of
-// two layers reads the pressure that acts (docs/PHYSICS.md "Slabs two spacings thick"; the
+// two layers reads the pressure that acts (docs/design/physics.md "Slabs two spacings thick"; the
 // one-spacing layers are printed). DFSPH's pressure is what both of its solves applied (the
 // density solve's and the divergence solve's impulse over the step). The issue asks for the
 // surface within 0.5 % and every slab within 2 % (DFSPH), 3 % (WCSPH). Measured (1 m / 0.5 m;
@@ -169,7 +169,7 @@ TEST(WallWeights, GiveDfsphTheTermsBoundaryParticlesGive) {
 //   0.74-6.01 %); with the correction alone 0.14 % / 0.12 %, 2.59 % / 2.46 % (2.62-4.29 % /
 //   2.34-4.07 %). Not met; the tank bounces (RMS 0.6-0.7 m/s), so these four cases are asserted
 //   at 6.5 %, guards against a blow-up.
-// - WCSPH (k = 20000, walls of boundary particles energy-consistent, docs/PHYSICS.md "Walls under
+// - WCSPH (k = 20000, walls of boundary particles energy-consistent, docs/design/physics.md "Walls under
 //   WCSPH"): surface 0.27 % / 0.67 % (0.28-0.29 % / 0.68-0.69 %), slabs 1.72 % / 2.06 %
 //   (1.70-1.79 % / 2.66-2.86 %); with the gradient correction 0.04 % / 0.44 %, 1.02 % / 1.14 %.
 //   Asserted at the issue's 3 %.
@@ -180,9 +180,9 @@ TEST(WallWeights, GiveDfsphTheTermsBoundaryParticlesGive) {
 // 1.04 % / 1.94 %, four runs 1.04-1.58 % / 1.13-2.29 %; the defaults 2.79 % / 3.13 %; WCSPH
 // 2.23 % / 2.15 %.)
 // Printed beside them, each slab's pressure against the weight of the water actually above it
-// (HydrostaticTrack::worstSlabAgainstWeight; docs/PHYSICS.md).
+// (HydrostaticTrack::worstSlabAgainstWeight; docs/design/physics.md).
 // The fluid's RMS speed at the end is bounded too: DFSPH's still tank is not calm at its defaults
-// (0.6-0.7 m/s, bound 1 m/s; docs/PHYSICS.md), the calm ones are (0.13-0.27 m/s, bound 0.5), and
+// (0.6-0.7 m/s, bound 1 m/s; docs/design/physics.md), the calm ones are (0.13-0.27 m/s, bound 0.5), and
 // WCSPH's is (0.2-0.33 m/s, bound 0.3 at 1 m and 0.4 at 0.5 m; 23 m/s with the mirrored walls,
 // which boiled the tank).
 struct TankCase {

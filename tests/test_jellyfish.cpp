@@ -3,7 +3,7 @@
 // shell never folds through itself, its height-to-diameter ratio comes back after every pulse);
 // its oral arms trail without knots; the paper's telescopic density acts in the bell (its
 // stretch_only measure) and no fluid gets into the wall. The README run's
-// figures come from `kurage run` itself (run.json's "swim", bodies.csv; docs/STABILITY.md).
+// figures come from `kurage run` itself (run.json's "swim", bodies.csv; docs/results/stability.md).
 //
 // Measures (pipeline/analysis/shell_wall.h): the bell's apex (its highest particle), centre of
 // mass, margin radius (the last ring of latitude of both layers), shape along its own axis
@@ -125,7 +125,7 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthKeepingItsShapeAndUntangledArms) 
   EXPECT_GE(tr.closestUnjoined, 0.5 * bodySpacing) << "the shell folds through itself";
   // An arm passing through itself brings two of its segments that share no particle together; the
   // jet folds the arms into hairpins that come within 0.13 m (a quarter spacing), so the bound is
-  // a fifth of the spacing (docs/PHYSICS.md 'The jellyfish').
+  // a fifth of the spacing (docs/design/physics.md 'The jellyfish').
   EXPECT_GE(tr.closestArm, 0.2 * bodySpacing) << "an arm passes through itself";
   // The paper's telescopic density acts in the bell (in its stretch_only form): stretched particles
   // lower their rest density, shortened ones keep it, and no fluid gets into the wall.

@@ -1,4 +1,4 @@
-// Runs that survive (issue 16; docs/RELIABILITY.md lists which test proves which promise):
+// Runs that survive (issue 16; docs/design/reliability.md lists which test proves which promise):
 //  - the I/O layer: unique exclusive temporaries, checked writes, nothing truncated under a
 //    final name when the disk is "full" (a file-size limit, RLIMIT_FSIZE with SIGXFSZ ignored)
 //    at every stage (sim, surface, render, video);

@@ -1,4 +1,4 @@
-// Stability: hard cases (label `stability`, issue 7). docs/STABILITY.md lists every case, what it
+// Stability: hard cases (label `stability`, issue 7). docs/results/stability.md lists every case, what it
 // asserts and why it is hard. Each case asserts what a broken solver would violate: no NaN or
 // infinite value, no particle outside the container, the particle count conserved (or equal to
 // what emitters added), mechanical energy bounded by what gravity, emitters or muscles put in,
@@ -102,7 +102,7 @@ SimParams columnOntoAStiffMembrane() {
   return p;
 }
 
-// The fluid of scenes/membrane.json: stiff enough for a membrane to hold it (docs/PHYSICS.md).
+// The fluid of scenes/membrane.json: stiff enough for a membrane to hold it (docs/design/physics.md).
 FluidParams membraneFluid() {
   FluidParams f;
   f.pressureStiffness = 6000.0f;
@@ -713,7 +713,7 @@ Window sampleTank(Simulation& sim, int from, int to) {
 }  // namespace
 
 // 60 simulated seconds of an 8 x 8 x 4 tank (256 particles). With the paper's parameters
-// verbatim the fluid is a gas with a 0.37 m scale height (docs/PHYSICS.md): it collapses into a
+// verbatim the fluid is a gas with a 0.37 m scale height (docs/design/physics.md): it collapses into a
 // dense layer on the floor, which must then stay put: density bounded and not creeping up, the
 // motion gone. With the water-like k_press of scenes/dam_break.json it stays a liquid: density
 // error a few percent and falling, kinetic energy decaying by orders of magnitude.
@@ -864,7 +864,7 @@ TEST_P(IncompressibleHardCases, ColumnDroppedOntoAPinnedMembrane) {
   }
 }
 
-// membrane.json under an incompressible solver tears (Bodies under DFSPH, docs/PHYSICS.md): `kurage
+// membrane.json under an incompressible solver tears (Bodies under DFSPH, docs/design/physics.md): `kurage
 // sim` finishes, warns that torn particles were left out of the solves, and run.json counts the steps.
 TEST_P(IncompressibleHardCases, CliReportsTornBodyParticlesAndWarns) {
   test::TempDir dir;

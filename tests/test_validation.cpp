@@ -126,7 +126,7 @@ TEST(Sink, RemovesWhatEntersAndCountsIt) {
 
 TEST(PapersFluid, SettlesWithoutBlowingUp) {
   // The paper's parameters (SPEC §2): a gas-like fluid with a 0.37 m scale height
-  // (docs/PHYSICS.md). It must stay finite, inside, and come to rest.
+  // (docs/design/physics.md). It must stay finite, inside, and come to rest.
   SimParams p;
   p.container.max = Eigen::Vector3f(16, 8, 12);
   p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(8, 8, 8)});
@@ -196,7 +196,7 @@ TEST(Hydrostatic, PressureMatchesRhoGDepthWithin5PercentOfRhoGH) {
 
 TEST(Hydrostatic, UncorrectedConsistentFormSlope) {
   // Without the gradient correction the spiky gradient estimate is not exact on a disordered
-  // neighbourhood: the slope is about 1.1 rho g (docs/PHYSICS.md). The paper's form gives 2.
+  // neighbourhood: the slope is about 1.1 rho g (docs/design/physics.md). The paper's form gives 2.
   Simulation sim(waterColumn(PressureForce::Monaghan1992, WallDensity::WallWeight));
   const double ratio = interiorPressureGradient(sim);
   std::printf("consistent form, no gradient correction: interior dp/dz = %.2f rho g\n", ratio);

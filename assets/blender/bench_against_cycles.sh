@@ -9,7 +9,7 @@
 # the README's main command); FRAME one of its frames (96 is t = 8 s at the preview's 12 fps).
 # kurage renders with `kurage still --from OUT --quality preview` (480 x 270, max depth 6; process
 # start and surfacing included in its seconds) three ways: as the scene's path tracer ("path",
-# with its transmissive shadows, docs/RENDERING.md), the same with the denoiser (against the path
+# with its transmissive shadows, docs/design/rendering.md), the same with the denoiser (against the path
 # tracer's reference), and with exact transport ("exact",
 # "transmissive_shadows": false: light reaches what lies under the water only through refraction,
 # as in Cycles). Cycles renders the meshes `kurage export` writes, through

@@ -38,7 +38,7 @@ struct MembraneLeak {
 };
 MembraneLeak membraneLeak(const sim::ParticleSet& particles, int kind, float fluidSpacing);
 
-// Who carries the poured fluid's weight (docs/PHYSICS.md, "Why the membrane's contrast is
+// Who carries the poured fluid's weight (docs/notebook/pressure_solvers.md, "Why the membrane's contrast is
 // WCSPH's"): the 90th percentile of the pressure of the membrane's particles that have a fluid
 // particle within 0.7 h, and the median pressure of the fluid particles within h of the membrane
 // (Pa; 0 where there are none). Brute force over fluid x membrane pairs: for the small scenes

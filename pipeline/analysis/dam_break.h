@@ -37,7 +37,7 @@ struct DamBreakGeometry {
 };
 
 // Samples the surge front and the residual column height of the fluid (kind 0) over time, as
-// tests/test_dam_break.cpp and docs/VALIDATION.md define them: the front is the 99.8th
+// tests/test_dam_break.cpp and docs/results/validation.md define them: the front is the 99.8th
 // percentile of x over particles below z = a / 4 (robust to isolated spray), plus half a
 // spacing; the column height is the highest particle within two spacings of the back wall that has
 // at least three other fluid particles within two spacings (not spray), plus half a spacing (0 when

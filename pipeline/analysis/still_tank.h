@@ -28,7 +28,7 @@ namespace kurage::pipeline {
 //   symmetric pressure force on a lattice layer k reads differences p_{k+m} - p_{k-m} of layers
 //   as far above as below, which have the same parity: a pressure alternating from layer to
 //   layer pushes nothing, so the solves do not correct it (in the bulk), and a slab one spacing
-//   thick reads it (a calm DFSPH tank's top layers alternate by +-1-2 %, docs/PHYSICS.md "Slabs
+//   thick reads it (a calm DFSPH tank's top layers alternate by +-1-2 %, docs/design/physics.md "Slabs
 //   two spacings thick"). A slab of two layers holds one of each and reads the pressure that
 //   acts. The one-spacing layers are kept apart (worstLayer; the slabs are aligned to the floor,
 //   so at h = 1.5 l they start at 4 l and the layers at 3 l, and a layer may lie in no slab);

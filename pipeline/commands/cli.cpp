@@ -99,7 +99,7 @@ const char* const kStageOptionsHelp =
     "  --threads N        worker threads (default: all cores)\n"
     "  --progress         show progress on stderr even when it is not a terminal\n"
     "  --task NAME        (farm jobs) record into OUT/records/NAME.json, not OUT/run.json\n"
-    "  --force            run a scene above the size limits (docs/RELIABILITY.md)\n"
+    "  --force            run a scene above the size limits (docs/design/reliability.md)\n"
     "  --resume           (sim, run) continue the simulation from OUT/checkpoint.bin, bit for bit\n"
     "  --checkpoint-every N  (sim, run) write OUT/checkpoint.bin every N frames (default 10; 0:\n"
     "                     only after the last frame and on SIGINT/SIGTERM)\n"

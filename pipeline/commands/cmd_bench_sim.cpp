@@ -73,7 +73,7 @@ sim::SimParams damBreak(int particles, float supportRadius, const std::string& s
   const int nz = std::max(2, int(std::round(particles / double(nx * nx))));
   sim::SimParams p;
   p.fluid.supportRadius = supportRadius;
-  // A liquid, not the paper's gas-like fluid: c = 10 sqrt(2 g H) (docs/PHYSICS.md), times
+  // A liquid, not the paper's gas-like fluid: c = 10 sqrt(2 g H) (docs/design/physics.md), times
   // --sound-speed-scale.
   const float c = settings.soundScale * 10.0f * std::sqrt(2.0f * 6.0f * nz);
   p.fluid.pressureStiffness = c * c;

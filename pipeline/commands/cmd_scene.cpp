@@ -11,7 +11,7 @@ int commandCheck(std::vector<std::string> rawArgs) {
   ArgParser args("check", std::move(rawArgs));
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage check SCENE [--force]\n\nValidates SCENE (keys, types, ranges, consistency, the size "
-                "limits of docs/RELIABILITY.md) and exits 0 if it is valid, 2 with a message naming the file and the "
+                "limits of docs/design/reliability.md) and exits 0 if it is valid, 2 with a message naming the file and the "
                 "JSON path if not. --force lifts the soft size limits.\n");
     return 0;
   }

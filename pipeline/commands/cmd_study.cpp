@@ -47,7 +47,7 @@ int commandStudy(std::vector<std::string> rawArgs) {
         "OUT/study.md (a summary naming the cheapest setting within the study's accepted error).\n"
         "The study file and every scene it makes are validated before anything runs (exit 2 with\n"
         "the file and JSON path); a run that fails is a row with its message. Studies are in\n"
-        "scenes/studies/, their results in docs/accuracy/ (docs/ACCURACY.md).\n\n"
+        "scenes/studies/, their results in docs/results/data/studies/ (docs/results/accuracy.md).\n\n"
         "  -o, --output OUT   output folder (created if missing)\n"
         "  --check            validate the study and every scene it makes, run nothing\n"
         "  --replot CSV       redraw the figure of a study.csv made by this study (FIGURE.png, .svg,\n"

@@ -1,5 +1,5 @@
 // Checkpoints of the simulation stage: OUT/checkpoint.bin, the full state after a frame, from
-// which `kurage sim|run --resume` continues bit for bit (docs/RELIABILITY.md). The simulation
+// which `kurage sim|run --resume` continues bit for bit (docs/design/reliability.md). The simulation
 // writes one every --checkpoint-every frames, after the last frame, and when SIGINT or SIGTERM
 // stops it; each replaces the one before atomically (pipeline/io/files.h).
 //

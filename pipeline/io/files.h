@@ -1,5 +1,5 @@
 // The one I/O layer: every file kurage writes goes through writeFileAtomic or TempFile, every
-// file it reads through readFile. The guarantees (docs/RELIABILITY.md):
+// file it reads through readFile. The guarantees (docs/design/reliability.md):
 //  - a final name only ever holds a complete file: bytes go to a temporary beside the target,
 //    unique to the process and created exclusively (O_EXCL), every write and the close are
 //    checked, the file is fsync'ed, renamed over the target, and the folder is fsync'ed;

@@ -16,7 +16,7 @@
 // (SolverParams, with their describe(), so the scene loader, scenes/schema.json and run.json
 // follow), its hydrostatic start, its walls' needs, its report for run.json and its checkpoint
 // state. Adding one is that folder and one line in registry.cpp's table (and its source in
-// sim/CMakeLists.txt); fluid.solver then accepts its name (docs/PHYSICS.md, "Pressure solvers").
+// sim/CMakeLists.txt); fluid.solver then accepts its name (docs/design/physics.md, "Pressure solvers").
 #pragma once
 
 #include "sim/kernels.h"

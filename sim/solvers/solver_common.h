@@ -137,7 +137,7 @@ struct TornCount {
     out.add("torn_body_particles.max_at_once", most);
     out.add("torn_body_particles.note", "telescopic body particles stretched until their rest density fell below a "
                                         "quarter of its initial value, left out of the solves' unknowns "
-                                        "(docs/PHYSICS.md, Bodies under DFSPH)");
+                                        "(docs/design/physics.md, Bodies under DFSPH)");
   }
   void warn(std::vector<SolverWarning>& out, std::string_view solver, uint64_t solverSteps) const {
     if (steps == 0) return;

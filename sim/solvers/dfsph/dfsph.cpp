@@ -35,7 +35,7 @@ void DfsphParams::describe(ParamVisitor& v) {
                 EnumTable<DivergenceSolve>{{"jacobi", DivergenceSolve::Jacobi}, {"cg", DivergenceSolve::ConjugateGradient}},
                 {"", "dfsph: how the divergence solve iterates: 'jacobi' (relaxed Jacobi, as Bender & Koschier) or "
                      "'cg' (preconditioned conjugate gradients on the same equations: about half the iterations "
-                     "for the same tolerance; docs/PHYSICS.md says what else changes)"});
+                     "for the same tolerance; docs/design/physics.md says what else changes)"});
 }
 
 std::optional<ParamProblem> DfsphParams::problem(const FluidParams& fluid) const {
@@ -265,7 +265,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       const float d = !active_[i] ? 0.0f : p.kind[i] == 0 ? rate_[i] : std::max(rate_[i], 0.0f);
       change_[i] = relax_[i] * d * invFactor_[i];
       // The error counts |d|: counting the compressing part only, as SPlisHSPlasH does, halves the
-      // iterations but took Martin & Moyce's column height from 10.5 to 13.1 % (docs/PHYSICS.md).
+      // iterations but took Martin & Moyce's column height from 10.5 to 13.1 % (docs/design/physics.md).
       return double(std::fabs(d)) / p.restDensity[i];
     });
     error = sum / double(n) * c.lastStep;

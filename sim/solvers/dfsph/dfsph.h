@@ -36,7 +36,7 @@
 // spline, its W'(r)/r per pair from the density pass. Sums reduce per chunk, then in order: the
 // result does not depend on the thread count. Limits: boundary coupling needs density_sum "volume"
 // and the Jacobi divergence solve; a still tank keeps some unrest at the default tolerances
-// (docs/PHYSICS.md); a telescopic membrane solved as unknowns tears where it stretches.
+// (docs/design/physics.md); a telescopic membrane solved as unknowns tears where it stretches.
 #pragma once
 
 #include "sim/solvers/pressure_solver.h"
@@ -47,7 +47,7 @@ namespace kurage::sim {
 inline constexpr const char* kDfsphSummary =
     "'dfsph' (divergence-free SPH, Bender & Koschier 2017: incompressible to max_density_error, whatever the step; "
     "uses the cubic spline kernel, support_radius 2 recommended; 3 closer to Martin & Moyce in a deep slice, at "
-    "about 2.5 times the cost, docs/VALIDATION.md)";
+    "about 2.5 times the cost, docs/results/validation.md)";
 
 // How the divergence solve iterates.
 enum class DivergenceSolve {

@@ -21,7 +21,7 @@ WcsphSolver::WcsphSolver(const FluidParams& fluid)
       kernel_(fluid.kernel == SphKernel::CubicSpline ? DensityKernel::CubicSpline : DensityKernel::Poly6) {}
 
 SphKernel WcsphSolver::ownKernel(WallDensity walls) const {
-  // The paper's pair let a still tank between boundary particles gain energy (docs/PHYSICS.md)
+  // The paper's pair let a still tank between boundary particles gain energy (docs/design/physics.md)
   return walls == WallDensity::BoundaryParticles ? SphKernel::CubicSpline : SphKernel::Mueller2003;
 }
 

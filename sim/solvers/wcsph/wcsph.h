@@ -3,7 +3,7 @@
 // force (5) among the other forces (SPEC §1). Its parameters are the fluid's (k_press,
 // fluid.pressure_force, fluid.negative_pressure: SPEC §2), so it declares none of its own.
 // Walls of boundary particles push with a penalty as stiff as the fluid, k = c^2 / l^2, holding
-// the first layer at its lattice place half a spacing in (fluid.h WallSums; docs/PHYSICS.md
+// the first layer at its lattice place half a spacing in (fluid.h WallSums; docs/design/physics.md
 // "Walls under WCSPH"). Its hydrostatic start compresses each column to the density whose
 // pressure carries it (hydrostaticLattice).
 #pragma once
