@@ -111,9 +111,8 @@ public:
   // L^dens below which a telescopic body particle counts as torn, stretched past what a solver of
   // its density can hold: (8)'s mean r0/|r| over its springs below 0.63, 1.6 times in every
   // direction for a uniform stretch. In membrane.json's sheet its own kernel's share of its density,
-  // m W(0), is then above a third of its rest density (a tenth unstretched). Measured there under
-  // DFSPH (docs/investigations/pressure_solvers.md): at 1/8 the run still went non-finite, at 1/5
-  // to 1/3 it completes.
+  // m W(0), is then above a third of its rest density (a tenth unstretched). The ratio holds that
+  // sheet under DFSPH from 1/5 to 1/3, not at 1/8 (docs/notebook/code-history-sim.md).
   static constexpr float kTornDensityRatio = 0.25f;
   // (14) The collision loop between body particles not joined by a spring (SPEC §3.4); particles
   // pinned at time t do not move.

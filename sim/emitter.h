@@ -1,4 +1,4 @@
-// Emitters and sinks (issue 3): sources and outflows of fluid particles.
+// Emitters and sinks: sources and outflows of fluid particles.
 #pragma once
 
 #include "sim/params.h"

@@ -30,9 +30,8 @@ using Int4 = int __attribute__((vector_size(16)));
 // neighbours' indices among them packed to the front through a table and all four written with
 // one store (out has room for every candidate); the list is the scalar loop's, in the same order.
 // Every group is written, none skipped: a branch on an empty group (most are: about 27 of 216
-// candidates are neighbours) was predictable while the particles stood on their starting lattice
-// and not once they had moved (bench sim's 100k dam break under WCSPH, one thread: the density
-// stage 14 ms a step at t = 0.7 s, 32 ms at 1.77 s).
+// candidates are neighbours) is predictable only while the particles stand on their starting
+// lattice, not once they have moved.
 inline size_t sift(const float* __restrict x, const float* __restrict y, const float* __restrict z, float xi,
                    float yi, float zi, float h2, uint32_t self, uint32_t first, uint32_t last,
                    uint32_t* __restrict out, size_t found) {
@@ -133,9 +132,8 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
       float sum = isPoly6 ? weight(uint32_t(i)) * h2 * h2 * h2 : weight(uint32_t(i)) * kernel.fromSquared(0.0f);
       // First the candidates are sifted (sift(): every one is written, the count advances only
       // for a neighbour), then the neighbours' weights are summed in order (the same sum as in one
-      // pass with a branch per candidate; measured on bench sim's 100k dam break: for the cubic
-      // spline 35 against 23 ms a step with DFSPH, and since the sift takes four candidates at a
-      // time, for the paper's poly6 too). Their r^2 is kept on the stack, unless there are
+      // pass with a branch per candidate, without the branch's mispredictions, for either
+      // kernel). Their r^2 is kept on the stack, unless there are
       // unusually many (a scratch buffer per chunk then).
       if (candidates > local.size() && overflow.size() < candidates) overflow.resize(candidates);
       uint32_t* d2 = candidates > local.size() ? overflow.data() : local.data();

@@ -163,7 +163,7 @@ private:
   std::vector<Float4> correctionRows_;                // its L_i, three rows per particle (fourth lanes 0)
   std::vector<Float4> gradientSum_;                   // per step: sum_j w_j grad W_ij (uncorrected)
   // Per push (applyPressure): w_j k_j (L00, L11, L22, L01), (w_j k_j (L02, L12), Y0, Y1) and Y2,
-  // Y = w_j k_j L_j (x_j - origin_): 36 bytes a neighbour, where L_j's three rows took 48.
+  // Y = w_j k_j L_j (x_j - origin_): 36 bytes a neighbour against the 48 of L_j's three rows.
   std::vector<Float4> pushTerms_;
   std::vector<Float4> reaction_;  // applyPressure: a boundary body's sample's share of its push, -m_i dv_i / M_i (header)
   std::vector<float> pushZ_;
