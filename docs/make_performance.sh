@@ -103,10 +103,10 @@ sim = load("sim")
 if sim:
     section("Simulation", "Command: `kurage bench sim --particles 100000 --json`")
     w(measured(sim["machine"]) + f" {sim['scene']}; c = 10 √(2gH) for WCSPH; "
-      f"{sim['warmup_steps']} warm-up steps excluded, {sim['timed_steps']} steps timed; DFSPH at "
-      f"{sim['max_density_error_percent']:.2g} % mean density error (DFSPH, IISPH) with boundary-particle walls. "
+      f"{sim['warmup_steps']} warm-up steps excluded, {sim['timed_steps']} steps timed; DFSPH and IISPH at "
+      f"{sim['max_density_error_percent']:.2g} % mean density error with boundary-particle walls. "
       "Stage columns are ms a step (sort: binning and reordering; density: neighbour search and "
-      "density sum; forces: pressure and viscosity; DFSPH's solves are in the step's total only). "
+      "density sum; forces: pressure and viscosity; the incompressible solvers' solves are in the step's total only). "
       "Iterations are a solver's a step, all its solves (DFSPH's divergence solve's apart). "
       "`sim s/s` is simulated seconds per wall second; `density %` the fluid's mean compression.")
     w("")
