@@ -21,10 +21,7 @@
 //    thread-count independent too.
 // 4. The clip to a box (intersectWithBox, surfacing.h) is a separate pass over a finished level
 //    set, leaf by leaf.
-//
-// This replaced tools::fogToSdf (fast sweeping over a band found by dilating and eroding the
-// inside mask), which took 1.6 s of the 3.1 s for a 1,000,000-particle tank on 2 threads; the
-// whole build now takes about 0.7 s there (`kurage bench surface`, README).
+// Its speed: `kurage bench surface` (docs/results/performance.md).
 #include "render/surfacing.h"
 
 #include "render/level_set_impl.h"
