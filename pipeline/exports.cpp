@@ -303,16 +303,17 @@ void writeSeries(const Scene& scene, const fs::path& exportsDir, const std::stri
 }  // namespace
 
 void exportFrames(const Scene& scene, const ExportSelection& selection, const fs::path& outDir, int first,
-                  int last) {
+                  int last, const std::function<bool()>& stop) {
   const fs::path exportsDir = outDir / "exports";
   const bool particles = selection.particlesVtp || selection.particlesPly || selection.chainsVtp || selection.chainsObj;
   for (int f = first; f <= last; ++f) {
+    if (stop && stop()) return;
     if (selection.needsSurfaces()) {
       const fs::path input = frameFile(outDir / "surfaces", f, "vdb");
       if (!fs::exists(input)) throw std::runtime_error(input.string() + ": missing; run `kurage surface` first");
       for (const auto& [grid, levelSet] : readSurfaceFile(input, {"surface", stageHash(scene, "surface"), f})) {
         const render::TriangleMesh mesh = render::meshLevelSet(levelSet);
-        fs::create_directories(exportsDir / grid);
+        outputFolder(outDir, fs::path("exports") / grid);
         if (selection.meshPly) writeTextAtomic(frameFile(exportsDir / grid, f, "ply"), meshToPly(mesh));
         if (selection.meshObj) writeTextAtomic(frameFile(exportsDir / grid, f, "obj"), meshToObj(mesh, grid));
       }
@@ -321,12 +322,12 @@ void exportFrames(const Scene& scene, const ExportSelection& selection, const fs
     const fs::path input = frameFile(outDir / "particles", f, "vdb");
     if (!fs::exists(input)) throw std::runtime_error(input.string() + ": missing; run `kurage sim` first");
     const ParticleFrame frame = readParticleFrame(input, {"sim", stageHash(scene, "sim"), f});
-    if (selection.particlesVtp || selection.particlesPly) fs::create_directories(exportsDir / "particles");
+    if (selection.particlesVtp || selection.particlesPly) outputFolder(outDir, "exports/particles");
     if (selection.particlesVtp) writeTextAtomic(frameFile(exportsDir / "particles", f, "vtp"), particlesToVtp(frame));
     if (selection.particlesPly) writeTextAtomic(frameFile(exportsDir / "particles", f, "ply"), particlesToPly(frame));
     if (selection.chainsVtp || selection.chainsObj) {
       const std::vector<Polyline> chains = chainPolylines(scene, frame);
-      fs::create_directories(exportsDir / "chains");
+      outputFolder(outDir, "exports/chains");
       if (selection.chainsVtp) writeTextAtomic(frameFile(exportsDir / "chains", f, "vtp"), polylinesToVtp(chains, frame.time));
       if (selection.chainsObj) writeTextAtomic(frameFile(exportsDir / "chains", f, "obj"), polylinesToObj(chains));
     }

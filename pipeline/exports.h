@@ -23,6 +23,7 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -61,8 +62,10 @@ const char* exportFormatNames();
 
 // Writes the selected exports of frames [first, last] of the run in outDir, and the .pvd series
 // (over every frame whose file exists, so a partial re-export keeps the whole series). Throws
-// std::runtime_error naming a missing or unreadable input and what makes it.
+// std::runtime_error naming a missing or unreadable input and what makes it. `stop` is asked
+// before each frame: true returns at once (the frames written so far are whole; the caller says
+// the run was interrupted).
 void exportFrames(const Scene& scene, const ExportSelection& selection, const std::filesystem::path& outDir,
-                  int first, int last);
+                  int first, int last, const std::function<bool()>& stop = {});
 
 }  // namespace kurage::pipeline

@@ -39,9 +39,12 @@ size_t editDistance(const std::string& a, const std::string& b) {
 }
 }  // namespace
 
+// Paths and messages are cut to a bounded length: they may carry text from the file (a key, a
+// name) of any size.
 SceneError::SceneError(std::string file, std::string jsonPath, std::string message)
-    : std::runtime_error(file + ": " + (jsonPath.empty() ? std::string("(top level)") : jsonPath) + ": " + message),
-      file_(std::move(file)), path_(std::move(jsonPath)), message_(std::move(message)) {}
+    : std::runtime_error(file + ": " + (jsonPath.empty() ? std::string("(top level)") : textExcerpt(jsonPath, 200)) +
+                         ": " + textExcerpt(message, 2000)),
+      file_(std::move(file)), path_(textExcerpt(jsonPath, 200)), message_(textExcerpt(message, 2000)) {}
 
 JsonReader::JsonReader(const nlohmann::json& object, std::string file, std::string path)
     : object_(object), file_(std::move(file)), path_(std::move(path)) {}
@@ -82,10 +85,10 @@ template <class T>
 void JsonReader::number(const char* key, T& ref, const Field& f, bool integral) {
   const nlohmann::json* j = find(key, f);
   if (!j) return;
-  if (!j->is_number()) fail(key, std::string("must be ") + (integral ? "an integer" : "a number") + ", got " + j->dump());
+  if (!j->is_number()) fail(key, std::string("must be ") + (integral ? "an integer" : "a number") + ", got " + jsonExcerpt(*j));
   const double v = j->get<double>();
   if (integral && (!j->is_number_integer() || v < std::numeric_limits<int>::min() || v > std::numeric_limits<int>::max()))
-    fail(key, "must be an integer, got " + j->dump());
+    fail(key, "must be an integer, got " + jsonExcerpt(*j));
   checkRange(key, v, f.range);
   if constexpr (std::is_same_v<T, float>) checkFloat(key, v);
   ref = static_cast<T>(v);
@@ -97,14 +100,14 @@ template void JsonReader::number<int>(const char*, int&, const Field&, bool);
 void JsonReader::value(const char* key, bool& ref, const Field& f) {
   const nlohmann::json* j = find(key, f);
   if (!j) return;
-  if (!j->is_boolean()) fail(key, "must be true or false, got " + j->dump());
+  if (!j->is_boolean()) fail(key, "must be true or false, got " + jsonExcerpt(*j));
   ref = j->get<bool>();
 }
 
 void JsonReader::value(const char* key, std::string& ref, const Field& f) {
   const nlohmann::json* j = find(key, f);
   if (!j) return;
-  if (!j->is_string()) fail(key, "must be a string, got " + j->dump());
+  if (!j->is_string()) fail(key, "must be a string, got " + jsonExcerpt(*j));
   ref = j->get<std::string>();
 }
 
@@ -115,11 +118,11 @@ void JsonReader::value(const char* key, nlohmann::json& ref, const Field& f) {
 void JsonReader::value(const char* key, Eigen::Vector3f& ref, const Field& f) {
   const nlohmann::json* j = find(key, f);
   if (!j) return;
-  if (!j->is_array() || j->size() != 3) fail(key, "must be an array of 3 numbers, got " + j->dump());
+  if (!j->is_array() || j->size() != 3) fail(key, "must be an array of 3 numbers, got " + jsonExcerpt(*j));
   for (int a = 0; a < 3; ++a) {
     const nlohmann::json& c = (*j)[size_t(a)];
     const std::string itemKey = std::string(key) + "[" + std::to_string(a) + "]";
-    if (!c.is_number()) fail(itemKey, "must be a number, got " + c.dump());
+    if (!c.is_number()) fail(itemKey, "must be a number, got " + jsonExcerpt(c));
     checkRange(itemKey.c_str(), c.get<double>(), f.range);
     checkFloat(itemKey.c_str(), c.get<double>());
     ref[a] = c.get<float>();
@@ -132,6 +135,7 @@ void JsonReader::finish() const {
     std::string hint;
     size_t best = 3;
     for (const std::string& known : seen_) {
+      if (key.size() > known.size() + best) continue;  // also keeps a megabyte-long key from costing seconds
       const size_t d = editDistance(key, known);
       if (d < best) { best = d; hint = " (did you mean \"" + known + "\"?)"; }
     }

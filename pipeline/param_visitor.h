@@ -8,6 +8,7 @@
 // so the loader, the schema and the defaults cannot drift apart.
 #pragma once
 
+#include "pipeline/io/json_file.h"
 #include "sim/param_visitor.h"
 
 #include <Eigen/Core>
@@ -76,14 +77,14 @@ public:
     }
     std::string names;
     for (const auto& [name, e] : table) names += (names.empty() ? "\"" : ", \"") + std::string(name) + "\"";
-    fail(key, "must be one of " + names + ", got " + j->dump());
+    fail(key, "must be one of " + names + ", got " + jsonExcerpt(*j));
   }
 
   template <class T>
   void object(const char* key, T& ref, const Field& f) {
     const nlohmann::json* j = find(key, f);
     if (!j) return;
-    if (!j->is_object()) fail(key, "must be an object, got " + j->dump());
+    if (!j->is_object()) fail(key, "must be an object, got " + jsonExcerpt(*j));
     JsonReader child(*j, file_, childPath(key));
     describe(child, ref);
     child.finish();
@@ -93,11 +94,11 @@ public:
   void list(const char* key, std::vector<T>& ref, const Field& f) {
     const nlohmann::json* j = find(key, f);
     if (!j) return;
-    if (!j->is_array()) fail(key, "must be an array, got " + j->dump());
+    if (!j->is_array()) fail(key, "must be an array, got " + jsonExcerpt(*j));
     ref.clear();
     for (size_t i = 0; i < j->size(); ++i) {
       const std::string itemPath = childPath(key) + "[" + std::to_string(i) + "]";
-      if (!(*j)[i].is_object()) throw SceneError(file_, itemPath, "must be an object, got " + (*j)[i].dump());
+      if (!(*j)[i].is_object()) throw SceneError(file_, itemPath, "must be an object, got " + jsonExcerpt((*j)[i]));
       T item{};
       JsonReader child((*j)[i], file_, itemPath);
       describe(child, item);

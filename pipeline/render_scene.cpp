@@ -1,4 +1,5 @@
 #include "pipeline/render_scene.h"
+#include "pipeline/io/files.h"
 #include "pipeline/sim_frame.h"
 
 #include "render/image.h"
@@ -57,8 +58,10 @@ render::RenderScene makeRenderScene(const Scene& scene, double time) {
       out.ownedMeshes.push_back(std::move(tank));
     }
   }
-  if (p.environment.type == render::EnvironmentType::Image)
+  if (p.environment.type == render::EnvironmentType::Image) {
+    requireRegularFile(p.environment.image);  // libpng opens it itself: a FIFO would block
     out.environment.image = std::make_shared<const render::Image>(render::readPng(p.environment.image));
+  }
   return out;
 }
 

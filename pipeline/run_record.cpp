@@ -1,6 +1,7 @@
 #include "pipeline/run_record.h"
 
 #include "pipeline/io/files.h"
+#include "pipeline/io/json_file.h"
 #include "render/surfacing.h"
 #include "render/embree_scene.h"
 #include "sim/simulation.h"
@@ -32,10 +33,10 @@ nlohmann::json versionInfo() {
 
 RunRecord::RunRecord(const fs::path& outDir, const Scene& scene, const std::string& sceneFile, const std::string& task)
     : path_(task.empty() ? outDir / "run.json" : outDir / "records" / (task + ".json")) {
-  if (!task.empty()) fs::create_directories(path_.parent_path());
+  if (!task.empty()) outputFolder(outDir, "records");
   if (fs::exists(path_)) {
     try {
-      data_ = nlohmann::json::parse(readText(path_));
+      data_ = readJson(path_);
     } catch (const std::exception&) {
       data_ = nlohmann::json::object();  // an unreadable record is replaced, not trusted
     }

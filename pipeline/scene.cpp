@@ -1,6 +1,7 @@
 #include "pipeline/scene.h"
 
 #include "pipeline/io/files.h"
+#include "pipeline/io/json_file.h"
 #include "pipeline/scene_params.h"
 #include "sim/bodies.h"
 
@@ -11,6 +12,7 @@
 #include <fstream>
 #include <sstream>
 #include <unistd.h>
+#include <unordered_set>
 #include <vector>
 
 namespace kurage::pipeline {
@@ -57,10 +59,12 @@ void checkName(const std::string& name, const std::string& file) {
   else
     for (const char c : name)
       if (static_cast<unsigned char>(c) < 0x20) why = "must not contain control characters";
-  if (!why.empty()) throw SceneError(file, "name", why + ", got " + nlohmann::json(name).dump());
+  if (!why.empty()) throw SceneError(file, "name", why + ", got " + jsonExcerpt(name));
 }
 
-void checkLimits(const Scene& scene, const std::string& file, const LoadOptions& options) {
+}  // namespace
+
+void checkSceneLimits(const Scene& scene, const std::string& file, const LoadOptions& options) {
   const SceneEstimate e = estimateScene(scene);
   const std::string hint = "; --force runs it anyway";
   if (e.frames > kMaxFramesHard)
@@ -83,13 +87,32 @@ void checkLimits(const Scene& scene, const std::string& file, const LoadOptions&
   if (e.particles > kMaxParticles)
     throw SceneError(file, "fluid_blocks", "hold about " + formatCount(e.particles) + " particles, above the limit of " +
                                                formatCount(kMaxParticles) + hint);
+  if (e.steps > kMaxSteps) {
+    const bool fixed = scene.sim.timeStep.mode == sim::TimeStepMode::Fixed;
+    throw SceneError(file, fixed ? "time_step.fixed_step" : "time_step.max_step",
+                     "gives at least " + formatCount(e.steps) + " time steps over output.duration, above the limit of " +
+                         formatCount(kMaxSteps) + hint);
+  }
   const double physical = double(::sysconf(_SC_PHYS_PAGES)) * double(::sysconf(_SC_PAGE_SIZE));
+  const std::string machine = ", more than this machine's " + formatCount(physical / 1e9) + " GB" + hint;
   if (physical > 0 && e.memoryBytes > physical)
     throw SceneError(file, "fluid.spacing", "the simulation needs about " + formatCount(e.memoryBytes / 1e9) + " GB (" +
                                                 formatCount(e.particles) + " particles, " + formatCount(e.gridCells) +
-                                                " grid cells), more than this machine's " + formatCount(physical / 1e9) +
-                                                " GB" + hint);
+                                                " grid cells)" + machine);
+  if (physical > 0 && e.surfaceBytes > physical) {
+    const bool bodies = scene.surface.bodies.voxelSize < scene.surface.fluid.voxelSize && e.bodyParticles > 0;
+    throw SceneError(file, bodies ? "surface.bodies.voxel_size" : "surface.fluid.voxel_size",
+                     "surfacing a frame needs up to " + formatCount(e.surfaceBytes / 1e9) + " GB (" +
+                         formatCount(e.surfaceLeaves) + " leaves of 8^3 voxels)" + machine);
+  }
+  if (physical > 0 && e.renderBytes > physical)
+    throw SceneError(file, "render.width", "rendering a frame needs up to " + formatCount(e.renderBytes / 1e9) +
+                                               " GB (" + std::to_string(scene.render.settings.width) + " x " +
+                                               std::to_string(scene.render.settings.height) +
+                                               " pixels, the surfaces' meshes)" + machine);
 }
+
+namespace {
 
 // Checks that need more than one field: they name the JSON path of the offending value.
 void validate(const Scene& scene, const std::string& file) {
@@ -229,6 +252,15 @@ void validate(const Scene& scene, const std::string& file) {
   if (blob.voxelSize >= blob.radius) fail("surface.fluid.voxel_size", "must be smaller than surface.fluid.radius");
 }
 
+// The 8^3-voxel leaves a metaball field can touch (SceneEstimate::surfaceLeaves).
+double metaballLeaves(const render::MetaballParams& m, const sim::ContainerParams& box, double particles) {
+  const double leaf = 8.0 * double(m.voxelSize), reach = 2.0 * double(m.radius);
+  double overContainer = 1.0;
+  for (int a = 0; a < 3; ++a) overContainer *= std::floor((double(box.max[a]) - box.min[a] + reach) / leaf) + 2.0;
+  const double perBlob = std::ceil((reach / double(m.voxelSize) + 1.0) / 8.0) + 1.0;
+  return std::min(overContainer, particles * perBlob * perBlob * perBlob);
+}
+
 }  // namespace
 
 SceneEstimate estimateScene(const Scene& scene) {
@@ -276,7 +308,18 @@ SceneEstimate estimateScene(const Scene& scene) {
     }
   }
   e.memoryBytes = (e.particles + e.bodyParticles) * kBytesPerParticle + e.gridCells * 12.0 + e.springs * 32.0;
+  e.steps = estimateSteps(scene, scene.output.duration);
+  const double fluidParticles = sim.emitters.empty() ? e.particles : HUGE_VAL;
+  e.surfaceLeaves = metaballLeaves(scene.surface.fluid, sim.container, fluidParticles);
+  if (e.bodyParticles > 0) e.surfaceLeaves += metaballLeaves(scene.surface.bodies, sim.container, e.bodyParticles);
+  e.surfaceBytes = e.surfaceLeaves * kBytesPerSurfaceLeaf;
+  e.renderBytes = double(scene.render.settings.width) * scene.render.settings.height * kBytesPerPixel + e.surfaceBytes;
   return e;
+}
+
+double estimateSteps(const Scene& scene, double seconds) {
+  const sim::TimeStepParams& ts = scene.sim.timeStep;
+  return std::ceil(seconds / double(ts.mode == sim::TimeStepMode::Fixed ? ts.fixedStep : ts.maxStep));
 }
 
 Scene parseScene(const nlohmann::json& document, const std::string& file, const LoadOptions& options) {
@@ -286,7 +329,7 @@ Scene parseScene(const nlohmann::json& document, const std::string& file, const 
   describe(reader, scene);
   reader.finish();
   validate(scene, file);
-  checkLimits(scene, file, options);
+  checkSceneLimits(scene, file, options);
   // Building the bodies to check them costs time and memory: only once the limits hold.
   if (!scene.sim.bodies.empty()) {
     const std::vector<sim::BodyProblem> problems = sim::checkBodies(scene.sim);
@@ -298,36 +341,40 @@ Scene parseScene(const nlohmann::json& document, const std::string& file, const 
   return scene;
 }
 
-// Parses JSON text, refusing duplicate keys (nlohmann keeps the last silently). Throws
-// SceneError naming the file: the line and column of a syntax error, the path of a duplicate.
+// Parses JSON text, refusing duplicate keys (nlohmann keeps the last silently) and nesting deeper
+// than kMaxJsonDepth (checked on the text first, so the parser never builds a deep value). A
+// level keeps only its own name and its keys; the JSON path of a duplicate is joined only when
+// one is found, so memory stays linear in the text.
 nlohmann::json parseStrictJson(const std::string& s, const std::string& file) {
-  // Per open object: its path and the keys seen; arrays push an entry that takes no keys.
+  if (const size_t at = jsonDepthBeyond(s); at != std::string::npos)
+    throw SceneError(file, "", "nested deeper than " + std::to_string(kMaxJsonDepth) + " levels at " +
+                                   lineAndColumn(s, at));
   struct Level {
-    std::string path;
-    std::vector<std::string> keys;
+    std::string name;  // the key this level is the value of, or "[]" for an array's item
+    std::unordered_set<std::string> keys;
   };
   std::vector<Level> levels;
   std::string lastKey;
-  const auto childPath = [&]() {
-    const std::string parent = levels.empty() ? "" : levels.back().path;
-    return lastKey.empty() ? parent + "[]" : (parent.empty() ? lastKey : parent + "." + lastKey);
+  const auto pathTo = [&](const std::string& key) {
+    std::string path;
+    for (size_t i = 1; i < levels.size(); ++i)
+      path += levels[i].name == "[]" || path.empty() ? levels[i].name : "." + levels[i].name;
+    return key.empty() ? path : path.empty() ? key : path + "." + key;
   };
   const nlohmann::json::parser_callback_t callback = [&](int, nlohmann::json::parse_event_t event,
                                                           nlohmann::json& parsed) {
     using E = nlohmann::json::parse_event_t;
     if (event == E::object_start || event == E::array_start) {
-      levels.push_back({levels.empty() ? "" : childPath(), {}});
+      levels.push_back({lastKey.empty() ? "[]" : lastKey, {}});
       lastKey.clear();
     } else if (event == E::object_end || event == E::array_end) {
       if (!levels.empty()) levels.pop_back();
       lastKey.clear();
     } else if (event == E::key) {
-      const std::string key = parsed.get<std::string>();
-      std::vector<std::string>& keys = levels.back().keys;
-      lastKey = key;
-      if (std::find(keys.begin(), keys.end(), key) != keys.end())
-        throw SceneError(file, childPath(), "duplicate key \"" + key + "\" (JSON keeps only one of them)");
-      keys.push_back(key);
+      lastKey = parsed.get<std::string>();
+      if (!levels.back().keys.insert(lastKey).second)
+        throw SceneError(file, pathTo(lastKey),
+                         "duplicate key " + jsonExcerpt(lastKey) + " (JSON keeps only one of them)");
     } else if (event == E::value) {
       lastKey.clear();
     }
@@ -336,13 +383,7 @@ nlohmann::json parseStrictJson(const std::string& s, const std::string& file) {
   try {
     return nlohmann::json::parse(s, callback);
   } catch (const nlohmann::json::parse_error& e) {
-    // Turn the byte offset into a line and column.
-    size_t line = 1, column = 1;
-    for (size_t i = 0; i + 1 < e.byte && i < s.size(); ++i) {
-      if (s[i] == '\n') { ++line; column = 1; } else { ++column; }
-    }
-    throw SceneError(file, "", "invalid JSON at line " + std::to_string(line) + ", column " + std::to_string(column) +
-                                   ": " + e.what());
+    throw SceneError(file, "", "invalid JSON at " + lineAndColumn(s, e.byte > 0 ? e.byte - 1 : 0) + ": " + e.what());
   } catch (const nlohmann::json::exception& e) {  // e.g. a number beyond a double (1e400)
     throw SceneError(file, "", std::string("invalid JSON: ") + e.what());
   }
@@ -351,7 +392,7 @@ nlohmann::json parseStrictJson(const std::string& s, const std::string& file) {
 Scene loadScene(const std::filesystem::path& file, const LoadOptions& options) {
   std::string text;
   try {
-    text = readFile(file);
+    text = readFile(file, kMaxJsonBytes);
   } catch (const IoError& e) {
     throw SceneError(file.string(), "", std::string("cannot read the scene file: ") + e.what());
   }

@@ -176,9 +176,28 @@ struct SceneEstimate {
   double bodyParticles = 0;
   double springs = 0;
   size_t mostSpringsBody = 0;
+  // Time steps over output.duration (estimateSteps).
+  double steps = 0;
+  // The surface stage, per frame: the 8^3-voxel leaves of the metaball fields (fluid and bodies)
+  // and their memory. An upper bound: the fewer of the leaves over the container grown by the
+  // field radius and the leaves each particle's blob can reach (the container's, with an emitter).
+  double surfaceLeaves = 0;
+  double surfaceBytes = 0;  // surfaceLeaves x kBytesPerSurfaceLeaf
+  // The render stage, per frame: its image buffers, width x height x kBytesPerPixel, and its
+  // meshes and their BVH, at most kBytesPerSurfaceLeaf x surfaceLeaves again.
+  double renderBytes = 0;
 };
 inline constexpr double kBytesPerParticle = 600.0;  // simulation arrays and neighbour lists
+// The surface stage's peak memory per leaf of the field: the summed field (2 KB), the level
+// set's leaf and its distances, the container clip (measured: docs/RELIABILITY.md).
+inline constexpr double kBytesPerSurfaceLeaf = 12e3;
+// A frame's buffers per pixel: the image, the EXR layers and the denoiser's inputs.
+inline constexpr double kBytesPerPixel = 64.0;
 SceneEstimate estimateScene(const Scene& scene);
+// Time steps to simulate `seconds` from t = 0: seconds / time_step.fixed_step, or, adaptive, the
+// fewest it can take, seconds / time_step.max_step (a run whose step falls toward min_step takes
+// more; SIGINT/SIGTERM stop it).
+double estimateSteps(const Scene& scene, double seconds);
 
 // The limits a scene must stay within (docs/design/reliability.md); `force` lifts the soft ones.
 struct LoadOptions {
@@ -189,7 +208,13 @@ inline constexpr double kMaxFrames = 100000;    // soft (about 70 minutes at 24 
 inline constexpr double kMaxFramesHard = 1e7;   // even with --force
 inline constexpr double kMaxGridCells = 4e8;    // hard: the neighbour grid's own limit
 inline constexpr double kMaxSprings = 2e7;      // soft (about 10 s and 1 GB to build)
-// soft: memory above the machine's physical memory
+inline constexpr double kMaxSteps = 1e7;        // soft (hours for a small scene, days for a large one)
+// soft: the simulation's, the surface stage's or the render stage's memory above the machine's
+// physical memory
+
+// Refuses a scene above the limits with the estimate (SceneError naming the key that sets it), as
+// loadScene does; for a scene changed after loading (--quality, --width, ...).
+void checkSceneLimits(const Scene& scene, const std::string& file, const LoadOptions& options = {});
 
 // Loads and validates a scene. Throws SceneError (file + JSON path) on any problem: unreadable
 // file, JSON syntax or duplicate keys, unknown keys, wrong types, missing required values,

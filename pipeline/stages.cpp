@@ -107,8 +107,7 @@ int resumeSimulation(const Scene& scene, const StageOptions& options, const std:
 void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
   const auto [first, last] = frameRange(scene, options);
   const auto start = std::chrono::steady_clock::now();
-  const fs::path folder = options.outDir / "particles";
-  fs::create_directories(folder);
+  const fs::path folder = outputFolder(options.outDir, "particles");
   const std::string simHash = stageHash(scene, "sim");
   sim::Simulation simulation(scene.sim);
   BodyTrack track(scene.sim, scene.name, scene.output.frameCount());
@@ -151,6 +150,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   run.checkpointEvery = options.checkpointEvery;
   recordSimStage(record, scene, simulation, track, run);
   record.save();
+  throwIfInterrupted();  // a signal during the last frame (its checkpoint is written)
 }
 
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const fs::path& particleFile) {
@@ -164,8 +164,23 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
     const size_t kind = size_t(frame.kind[i]);
     if (kind < byKind.size()) byKind[kind].emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
   }
-  const auto build = [&](const std::vector<Eigen::Vector3f>& positions, const render::MetaballParams& params) {
-    render::LevelSet levelSet = render::buildMetaballLevelSet(positions, params);
+  // Errors name the scene key whose voxel size is too fine for the positions or the memory.
+  const auto build = [&](const std::vector<Eigen::Vector3f>& positions, const render::MetaballParams& params,
+                         const char* key) {
+    render::LevelSet levelSet;
+    const auto named = [&](const std::string& what) {
+      char size[32];
+      std::snprintf(size, sizeof size, "%g", double(params.voxelSize));
+      return std::string(key) + " = " + size + " m: " + what;
+    };
+    try {
+      levelSet = render::buildMetaballLevelSet(positions, params);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(named(e.what()));
+    } catch (const std::bad_alloc&) {
+      throw std::runtime_error(named("out of memory surfacing " + std::to_string(positions.size()) +
+                                     " particles (`kurage check` estimates the memory of each stage)"));
+    }
     if (scene.surface.clipToContainer) {
       const Eigen::Vector3f margin = Eigen::Vector3f::Constant(0.25f * params.voxelSize);
       render::intersectWithBox(levelSet, scene.sim.container.min - margin, scene.sim.container.max + margin);
@@ -173,10 +188,10 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
     return levelSet;
   };
   std::map<std::string, render::LevelSet> surfaces;
-  surfaces.emplace("fluid", build(byKind[0], scene.surface.fluid));
+  surfaces.emplace("fluid", build(byKind[0], scene.surface.fluid, "surface.fluid.voxel_size"));
   for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
     if (scene.sim.bodies[b].shape != sim::BodyShape::Chain)
-      surfaces.emplace(scene.sim.bodies[b].name, build(byKind[b + 1], scene.surface.bodies));
+      surfaces.emplace(scene.sim.bodies[b].name, build(byKind[b + 1], scene.surface.bodies, "surface.bodies.voxel_size"));
   return surfaces;
 }
 
@@ -186,8 +201,14 @@ fs::path cacheFile(const fs::path& outDir, int f) { return frameFile(outDir / "p
 fs::path surfaceFile(const fs::path& outDir, int f) { return frameFile(outDir / "surfaces", f, "vdb"); }
 
 void surfaceOneFrame(const StageContext& c, int f, FrameTally& tally) {
-  const std::map<std::string, render::LevelSet> surfaces =
-      surfaceFrame(c.scene, readParticleFrame(cacheFile(c.outDir, f), c.stamp("sim", f)));
+  const fs::path cache = cacheFile(c.outDir, f);
+  const ParticleFrame frame = readParticleFrame(cache, c.stamp("sim", f));
+  std::map<std::string, render::LevelSet> surfaces;
+  try {
+    surfaces = surfaceFrame(c.scene, frame);
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(cache.string() + ": " + e.what());
+  }
   std::map<std::string, const render::LevelSet*> grids;
   for (const auto& [name, grid] : surfaces) {
     grids[name] = &grid;
@@ -291,9 +312,10 @@ void runRenderStage(const Scene& scene, const StageOptions& options, RunRecord& 
 void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& record) {
   const auto [first, last] = frameRange(scene, options);
   const auto start = std::chrono::steady_clock::now();
-  exportFrames(scene, scene.output.exports, options.outDir, first, last);
+  exportFrames(scene, scene.output.exports, options.outDir, first, last, interruptPending);
   record.setStage("export", {{"frames", last - first + 1}, {"seconds", secondsSince(start)}});
   record.save();
+  throwIfInterrupted();
 }
 
 namespace {
@@ -379,13 +401,18 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
     if (options.force || !stage.upToDate(context, f)) todo.push_back(f);
   for (int f : todo)
     for (const StageInput& in : stage.inputs(context, f)) requireFile(in.file, in.producer);
-  fs::create_directories(options.outDir / stage.folder);
+  outputFolder(options.outDir, stage.folder);
   Progress progress(stage.name, int(todo.size()), options.progress);
   FrameTally tally;
   int done = 0;
   for (int f : todo) {
     throwIfInterrupted();
-    stage.perFrame(context, f, tally);
+    try {
+      stage.perFrame(context, f, tally);
+    } catch (const std::bad_alloc&) {
+      throw std::runtime_error(std::string(stage.name) + ": frame " + std::to_string(f) +
+                               ": out of memory (`kurage check` estimates the memory of each stage)");
+    }
     progress.advance(++done);
   }
   progress.finish();
@@ -396,6 +423,20 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
   stage.summarise(scene, tally, done, entry);
   record.setStage(stage.name, std::move(entry));
   record.save();
+  throwIfInterrupted();  // a signal during the last frame: the frames are whole, the run is not complete
+}
+
+void encodeVideoInterruptibly(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie,
+                              const std::string& stamp, bool force) {
+  // A signal ends ffmpeg (stop), or reaches it too (Ctrl-C goes to the process group) and makes
+  // it fail: either way the run was interrupted, not failed.
+  try {
+    encodeVideoAndReport(framesFolder, first, count, fps, movie, stamp, force, interruptPending);
+  } catch (const IoError&) {
+    throwIfInterrupted();
+    throw;
+  }
+  throwIfInterrupted();
 }
 
 void encodeSceneVideo(const Scene& scene, const fs::path& outDir, int first, int last, bool force) {
@@ -413,8 +454,8 @@ void encodeSceneVideo(const Scene& scene, const fs::path& outDir, int first, int
   char stamp[200];
   std::snprintf(stamp, sizeof stamp, "video %s %d %d %g %016llx", stageHash(scene, "render").c_str(), first,
                 last - first + 1, scene.output.fps, static_cast<unsigned long long>(frames));
-  encodeVideoAndReport(outDir / "frames", first, last - first + 1, scene.output.fps, outDir / (scene.name + ".mp4"),
-                       stamp, force);
+  encodeVideoInterruptibly(outDir / "frames", first, last - first + 1, scene.output.fps,
+                           outDir / (scene.name + ".mp4"), stamp, force);
 }
 
 }  // namespace kurage::pipeline

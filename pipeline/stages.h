@@ -123,6 +123,11 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
 // stamp) is kept unless `force`.
 void encodeSceneVideo(const Scene& scene, const std::filesystem::path& outDir, int first, int last, bool force = false);
 
+// encodeVideoAndReport (pipeline/io/video.h) that SIGINT/SIGTERM stop: ffmpeg is ended and
+// Interrupted thrown, also when the signal reached ffmpeg first and made it fail.
+void encodeVideoInterruptibly(const std::filesystem::path& framesFolder, int first, int count, double fps,
+                              const std::filesystem::path& movie, const std::string& stamp = "", bool force = false);
+
 // Renders the surfaces, and the tubes `curves` (chainTubes() of the frame when the scene has
 // chains), with the camera at simulated time `time` (camera keys). `layers`, when given, gets
 // the frame's compositing layers with the scene's object ids (render_scene.h: objectIdOfKind).

@@ -1,5 +1,11 @@
 #include "pipeline/commands/cli.h"
 
+#include "pipeline/interrupt.h"
+#include "pipeline/io/files.h"
+#include "pipeline/io/json_file.h"
+
+#include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <unistd.h>
 
@@ -10,6 +16,16 @@ bool matches(const std::string& arg, std::initializer_list<const char*> names) {
   for (const char* n : names)
     if (arg == n) return true;
   return false;
+}
+
+// The whole of `text` as a decimal integer in [min, max]; nullopt for anything else (no sign
+// other than '-', no spaces, no wrap-around: 4294967298 is out of range, not 2).
+std::optional<int> parseInteger(std::string_view text, int min, int max) {
+  long long value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (text.empty() || error != std::errc() || end != text.data() + text.size() || value < min || value > max)
+    return std::nullopt;
+  return int(value);
 }
 }  // namespace
 
@@ -59,16 +75,10 @@ std::vector<std::string> ArgParser::options(std::initializer_list<const char*> n
 std::optional<int> ArgParser::intOption(std::initializer_list<const char*> names, int min, int max) {
   const std::optional<std::string> text = option(names);
   if (!text) return std::nullopt;
-  size_t used = 0;
-  int value = 0;
-  try {
-    value = std::stoi(*text, &used);
-  } catch (...) {
-    used = 0;
-  }
-  if (used != text->size() || value < min || value > max)
-    fail(std::string(*names.begin()) + ": expected an integer in [" + std::to_string(min) + ", " +
-         std::to_string(max) + "], got " + *text);
+  const std::optional<int> value = parseInteger(*text, min, max);
+  if (!value)
+    fail(std::string(*(names.end() - 1)) + ": expected an integer in [" + std::to_string(min) + ", " +
+         std::to_string(max) + "], got " + textExcerpt(*text));
   return value;
 }
 
@@ -82,7 +92,8 @@ std::optional<double> ArgParser::doubleOption(std::initializer_list<const char*>
   } catch (...) {
     used = 0;
   }
-  if (used != text->size()) fail(std::string(*names.begin()) + ": expected a number, got " + *text);
+  if (text->empty() || used != text->size() || !std::isfinite(value))
+    fail(std::string(*(names.end() - 1)) + ": expected a finite number, got " + textExcerpt(*text));
   return value;
 }
 
@@ -121,17 +132,17 @@ StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput) {
     o.stage.task = *task;
   }
   if (auto frames = args.option({"--frames"})) {
-    int first = 0, last = 0;
-    char tail = 0;
-    if (std::sscanf(frames->c_str(), "%d-%d%c", &first, &last, &tail) == 2) {
-      o.stage.firstFrame = first;
-      o.stage.lastFrame = last;
-    } else if (std::sscanf(frames->c_str(), "%d%c", &first, &tail) == 1) {
-      o.stage.firstFrame = o.stage.lastFrame = first;
-    } else {
-      args.fail("--frames: expected A-B or A, got " + *frames);
-    }
-    if (o.stage.firstFrame < 0 || o.stage.lastFrame < o.stage.firstFrame) args.fail("--frames: bad range " + *frames);
+    // A or A-B, each a frame number in [0, kMaxFramesHard).
+    const size_t dash = frames->find('-');
+    const std::optional<int> first = parseInteger(std::string_view(*frames).substr(0, dash), 0, int(kMaxFramesHard) - 1);
+    const std::optional<int> last =
+        dash == std::string::npos ? first : parseInteger(std::string_view(*frames).substr(dash + 1), 0, int(kMaxFramesHard) - 1);
+    if (!first || !last)
+      args.fail("--frames: expected A-B or A, frame numbers from 0 to " + std::to_string(int(kMaxFramesHard) - 1) +
+                ", got " + textExcerpt(*frames));
+    if (*last < *first) args.fail("--frames: bad range " + *frames + " (B before A)");
+    o.stage.firstFrame = *first;
+    o.stage.lastFrame = *last;
   }
   return o;
 }
@@ -142,6 +153,16 @@ std::pair<int, int> checkedFrameRange(const ArgParser& args, const Scene& scene,
   } catch (const std::invalid_argument& e) {
     args.fail(e.what());
   }
+}
+
+ClaimedOutput::ClaimedOutput(const std::filesystem::path& outDir, const std::string& command, const std::string& task) {
+  if (task.empty()) {
+    lock_.emplace(outDir, command);
+    if (const size_t stale = removeStaleTemporaries(outDir))
+      std::printf("%s: removed %zu temporary files left by a run that was killed\n",
+                  command.substr(0, command.find(' ')).c_str(), stale);
+  }
+  installInterruptHandlers();
 }
 
 const char* const kQualityHelp =

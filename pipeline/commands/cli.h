@@ -5,6 +5,7 @@
 // UsageError and SceneError, 1 for anything else).
 #pragma once
 
+#include "pipeline/io/run_lock.h"
 #include "pipeline/stages.h"
 #include "pipeline/thread_limit.h"
 
@@ -49,6 +50,17 @@ StageCommandOptions parseStageOptions(ArgParser& args, bool requireOutput);
 // frameRange(), its error a command-line error (exit 2).
 std::pair<int, int> checkedFrameRange(const ArgParser& args, const Scene& scene, const StageOptions& options);
 extern const char* const kStageOptionsHelp;
+
+// What every command that writes into OUT does before writing: takes OUT's run lock, held until
+// the object dies (not for a farm task, `task` not empty: see cmd_stage.cpp), removes the
+// temporaries a killed run left, and installs the SIGINT/SIGTERM handlers (pipeline/interrupt.h).
+class ClaimedOutput {
+public:
+  ClaimedOutput(const std::filesystem::path& outDir, const std::string& command, const std::string& task = "");
+
+private:
+  std::optional<RunLock> lock_;
+};
 
 // --quality preview|final (default final: the scene as written).
 Quality parseQuality(ArgParser& args);

@@ -1,7 +1,9 @@
 // kurage export OUT --format F[,F...] [--frames A-B] [--threads N]: files for other tools from an
 // existing run (pipeline/exports.h). The scene is the one the run recorded in OUT/run.json.
 #include "pipeline/commands/cli.h"
+#include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
+#include "pipeline/io/json_file.h"
 #include "pipeline/exports.h"
 #include "pipeline/scene.h"
 
@@ -53,14 +55,18 @@ int commandExport(std::vector<std::string> rawArgs) {
   options.stage.outDir = positional[0];
   const fs::path record = options.stage.outDir / "run.json";
   if (!fs::exists(record)) args.fail(record.string() + ": missing; OUT must be the folder of a kurage run");
-  const nlohmann::json recorded = nlohmann::json::parse(readText(record));
+  const nlohmann::json recorded = readJson(record);
   if (!recorded.contains("parameters")) throw SceneError(record.string(), "parameters", "missing");
   const Scene scene = parseScene(recorded["parameters"], record.string());
   const auto [first, last] = frameRange(scene, options.stage);
 
   ThreadLimit threads(options.threads);
+  // As a stage command: one run per OUT, the temporaries of a killed run removed, SIGINT/SIGTERM
+  // stop between frames (exit 128 + the signal).
+  const ClaimedOutput claim(options.stage.outDir, "export " + *formats);
   const auto start = std::chrono::steady_clock::now();
-  exportFrames(scene, selection, options.stage.outDir, first, last);
+  exportFrames(scene, selection, options.stage.outDir, first, last, interruptPending);
+  throwIfInterrupted();
   std::printf("exports: %s (%d frames, %.1f s)\n", (options.stage.outDir / "exports").string().c_str(),
               last - first + 1, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return 0;

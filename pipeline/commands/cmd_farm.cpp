@@ -4,6 +4,7 @@
 #include "pipeline/farm/farm.h"
 #include "pipeline/stages.h"
 #include "pipeline/io/files.h"
+#include "pipeline/io/json_file.h"
 #include "pipeline/scene.h"
 
 #include <array>
@@ -65,12 +66,6 @@ std::string trim(std::string s) {
   return s;
 }
 
-std::string shellWord(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
 fs::path selfPath() {
   std::error_code ec;
   const fs::path p = fs::read_symlink("/proc/self/exe", ec);
@@ -92,7 +87,7 @@ std::string sbatch(const std::string& extra, const fs::path& script) {
 FarmPlan loadPlan(const fs::path& out) {
   const fs::path file = out / "farm/plan.json";
   if (!fs::exists(file)) throw UsageError(file.string() + ": missing; OUT must be a folder made by `kurage farm`");
-  return planFromJson(nlohmann::json::parse(readText(file)), file.string());
+  return planFromJson(readJson(file), file.string());
 }
 
 // The scene a plan was made from, at the plan's quality (for the stage table's checks).
@@ -116,8 +111,6 @@ int farmPlanAndSubmit(ArgParser& args) {
   if (submit && !options.stage.outDir.is_absolute())
     args.fail("-o " + options.stage.outDir.string() +
               ": with --submit OUT must be an absolute path on a file system every node sees");
-  for (const std::string& a : sbatchArgs)
-    if (a.find('\n') != std::string::npos) args.fail("--sbatch-arg: one line, got a newline");
 
   Scene scene = loadScene(positional[0]);
   applyQuality(scene, quality);
@@ -136,9 +129,10 @@ int farmPlanAndSubmit(ArgParser& args) {
   plan.timeLimit = timeLimit.value_or("");
   plan.sbatchArgs = sbatchArgs;
   plan.fps = scene.output.fps;
+  if (const std::string problem = farmPlanProblem(plan); !problem.empty()) args.fail(problem);
 
   const fs::path farm = plan.outDir / "farm";
-  fs::create_directories(farm / "logs");
+  outputFolder(plan.outDir, "farm/logs");
   writeTextAtomic(farm / "plan.json", planToJson(plan).dump(2) + "\n");
   for (const auto& [name, text] : {std::pair{"sim.sbatch", simScript(plan)}, std::pair{"frames.sbatch", framesScript(plan)},
                                    std::pair{"merge.sbatch", mergeScript(plan)}}) {
@@ -210,7 +204,7 @@ int farmStatus(ArgParser& args) {
   const FarmPlan plan = loadPlan(positional[0]);
   const fs::path jobsFile = plan.outDir / "farm/jobs.json";
   if (fs::exists(jobsFile)) {
-    const nlohmann::json jobs = nlohmann::json::parse(readText(jobsFile));
+    const nlohmann::json jobs = readJson(jobsFile);
     for (const char* stage : {"sim", "frames", "merge"}) {
       if (!jobs.contains(stage)) {
         std::printf("%-6s not submitted (nothing to do)\n", stage);
@@ -264,8 +258,8 @@ int farmMerge(ArgParser& args) {
   // run.json: the simulation's record, with the surface and render tasks' seconds added up.
   const fs::path records = plan.outDir / "records";
   const fs::path simRecord = records / "sim.json";
-  nlohmann::json run = fs::exists(simRecord) ? nlohmann::json::parse(readText(simRecord))
-                       : fs::exists(plan.outDir / "run.json") ? nlohmann::json::parse(readText(plan.outDir / "run.json"))
+  nlohmann::json run = fs::exists(simRecord) ? readJson(simRecord)
+                       : fs::exists(plan.outDir / "run.json") ? readJson(plan.outDir / "run.json")
                                                               : nlohmann::json::object();
   for (const StageSpec& spec : stageTable()) {
     if (spec.sequential || !spec.perFrame) continue;  // the per-frame stages the frame tasks ran
@@ -275,7 +269,7 @@ int farmMerge(ArgParser& args) {
     for (const auto& entry : fs::directory_iterator(records)) {
       const std::string name = entry.path().filename().string();
       if (name.rfind(std::string(stage) + "-", 0) != 0 || entry.path().extension() != ".json") continue;
-      const nlohmann::json r = nlohmann::json::parse(readText(entry.path()));
+      const nlohmann::json r = readJson(entry.path());
       const nlohmann::json& s = r["stages"][stage];
       seconds += s.value("seconds", 0.0);
       tasks.push_back({{"record", name}, {"seconds", s.value("seconds", 0.0)}});
@@ -284,7 +278,7 @@ int farmMerge(ArgParser& args) {
   }
   run["farm"] = planToJson(plan);
   if (fs::exists(plan.outDir / "farm/jobs.json"))
-    run["farm"]["jobs"] = nlohmann::json::parse(readText(plan.outDir / "farm/jobs.json"));
+    run["farm"]["jobs"] = readJson(plan.outDir / "farm/jobs.json");
   writeTextAtomic(plan.outDir / "run.json", run.dump(2) + "\n");
   std::printf("run: %s\n", (plan.outDir / "run.json").string().c_str());
   encodeSceneVideo(scene, plan.outDir, plan.first, plan.last);

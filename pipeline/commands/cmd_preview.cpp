@@ -8,6 +8,7 @@
 // sqrt(2 |g| height)). Camera and resolution come from the scene's render settings; the light is
 // fixed (from above, over the camera's shoulder) and the background a flat pale grey-blue.
 #include "pipeline/commands/cli.h"
+#include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/image_file.h"
 #include "pipeline/io/particle_cache.h"
@@ -107,12 +108,13 @@ int commandPreview(std::vector<std::string> rawArgs) {
   const float radius = 0.5f * scene.sim.fluid.spacing;
 
   ThreadLimit threads(options.threads);
-  const fs::path outFolder = options.stage.outDir / "preview";
-  fs::create_directories(outFolder);
+  const ClaimedOutput claim(options.stage.outDir, "preview " + sceneFile);
+  const fs::path outFolder = outputFolder(options.stage.outDir, "preview");
   render::PreviewRenderer renderer;
   Progress progress("preview", last - first + 1, options.stage.progress);
   double readSeconds = 0, drawSeconds = 0, writeSeconds = 0;
   for (int f = first; f <= last; ++f) {
+    throwIfInterrupted();
     auto start = std::chrono::steady_clock::now();
     const ParticleFrame frame = readParticleFrame(frameFile(inFolder, f, "vdb"), {"sim", stageHash(scene, "sim"), f});
     render::PreviewSpheres spheres;
@@ -140,6 +142,7 @@ int commandPreview(std::vector<std::string> rawArgs) {
     progress.advance(f - first + 1);
   }
   progress.finish();
+  throwIfInterrupted();
   const int frames = last - first + 1;
   std::fprintf(stderr, "preview: %d frames, %.1f frames/s drawing (%s), %.1f frames/s with reading and PNG writing\n",
                frames, frames / drawSeconds, renderer.glVersion().c_str(),
@@ -147,7 +150,7 @@ int commandPreview(std::vector<std::string> rawArgs) {
   std::printf("preview: %s\n", outFolder.string().c_str());
 
   if (!video) return 0;
-  encodeVideoAndReport(outFolder, first, frames, scene.output.fps, options.stage.outDir / "preview.mp4");
+  encodeVideoInterruptibly(outFolder, first, frames, scene.output.fps, options.stage.outDir / "preview.mp4");
   return 0;
 }
 

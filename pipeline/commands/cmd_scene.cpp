@@ -20,8 +20,11 @@ int commandCheck(std::vector<std::string> rawArgs) {
   if (positional.size() != 1) args.fail("expected one SCENE");
   const Scene scene = loadScene(positional[0], {force});
   const sim::Simulation probe(scene.sim);
-  std::printf("%s: valid (%zu particles, %d frames)\n", positional[0].c_str(), probe.particles().size(),
-              scene.output.frameCount());
+  const SceneEstimate e = estimateScene(scene);
+  std::printf("%s: valid (%zu particles, %d frames, at least %.3g steps; memory up to %.2g GB simulating, "
+              "%.2g GB surfacing, %.2g GB rendering)\n",
+              positional[0].c_str(), probe.particles().size(), scene.output.frameCount(), e.steps,
+              e.memoryBytes / 1e9, e.surfaceBytes / 1e9, e.renderBytes / 1e9);
   return 0;
 }
 

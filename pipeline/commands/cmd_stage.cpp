@@ -71,6 +71,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   if (height) scene.render.settings.height = *height;
   if (spp) scene.render.settings.samplesPerPixel = *spp;
   if (depth) scene.render.settings.maxDepth = *depth;
+  checkSceneLimits(scene, sceneFile, {options.stage.force});  // after --width, --height
   checkedFrameRange(args, scene, options.stage);
   checkFixedStep(scene, sceneFile, strict);
 
@@ -78,13 +79,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   // One run per OUT (held until the process ends); SIGINT/SIGTERM stop at the next frame. A farm
   // task takes no lock: its job dependencies order the stages, its frames are its own, and its
   // record is its own file (OUT/records/TASK.json).
-  std::optional<RunLock> lock;
-  if (options.stage.task.empty()) {
-    lock.emplace(options.stage.outDir, name + " " + sceneFile);
-    if (const size_t stale = removeStaleTemporaries(options.stage.outDir))
-      std::printf("%s: removed %zu temporary files left by a run that was killed\n", name.c_str(), stale);
-  }
-  installInterruptHandlers();
+  const ClaimedOutput claim(options.stage.outDir, name + " " + sceneFile, options.stage.task);
   RunRecord record(options.stage.outDir, scene, sceneFile, options.stage.task);
   record.data()["threads"] = ThreadLimit::current();
   record.data()["quality"] = quality == Quality::Preview ? "preview" : "final";
@@ -102,6 +97,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
       const auto [first, last] = frameRange(scene, options.stage);
       encodeSceneVideo(scene, options.stage.outDir, first, last, options.stage.force);
     }
+    throwIfInterrupted();  // whatever came after the last check: the run is not complete
   } catch (const std::exception& e) {
     // run.json says how the run ended; a failure to record that must not hide the first error.
     record.data()["status"] = dynamic_cast<const Interrupted*>(&e) ? "interrupted" : "failed";

@@ -4,6 +4,7 @@
 // does; --spheres shows the particles themselves, coloured by kind, speed or rest-density factor.
 #include "pipeline/commands/cli.h"
 #include "pipeline/io/files.h"
+#include "pipeline/io/json_file.h"
 #include "pipeline/io/image_file.h"
 #include "pipeline/io/particle_cache.h"
 #include "pipeline/render_scene.h"
@@ -42,6 +43,7 @@ constexpr const char* kHelp =
     "  --16bit              16-bit PNG\n"
     "  --transparent        transparent background (PNG alpha)\n"
     "  --threads N          worker threads (default: all cores)\n"
+    "  --force              past the scene's size limits and the step limit (docs/RELIABILITY.md)\n"
     "  -h, --help           this help\n";
 
 ParticleFrame simulateTo(const Scene& scene, double time) {
@@ -71,6 +73,7 @@ int commandStill(std::vector<std::string> rawArgs) {
   const std::optional<std::string> clip = args.option({"--clip"});
   const bool sixteen = args.flag({"--16bit"});
   const bool transparent = args.flag({"--transparent"});
+  const bool force = args.flag({"--force"});
   const Quality quality = parseQuality(args);
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one SCENE");
@@ -82,7 +85,7 @@ int commandStill(std::vector<std::string> rawArgs) {
   const fs::path outFolder = outFile.has_parent_path() ? outFile.parent_path() : fs::path(".");
   if (!fs::is_directory(outFolder)) args.fail("-o: folder " + outFolder.string() + " does not exist");
 
-  Scene scene = loadScene(positional[0]);
+  Scene scene = loadScene(positional[0], {force});
   applyQuality(scene, quality);
   render::RenderSettings& settings = scene.render.settings;
   if (width) settings.width = *width;
@@ -92,6 +95,13 @@ int commandStill(std::vector<std::string> rawArgs) {
   if (seed) settings.seed = *seed;
   if (transparent) settings.transparentBackground = true;
   if (sixteen) scene.render.bitDepth = 16;
+  checkSceneLimits(scene, positional[0], {force});
+  if (const double steps = estimateSteps(scene, *time); !from && !force && steps > kMaxSteps) {
+    char text[160];
+    std::snprintf(text, sizeof text, "--time %g: simulating to it takes at least %.3g time steps, above the limit of %.3g; "
+                  "--force runs it anyway", *time, steps, kMaxSteps);
+    args.fail(text);
+  }
   if (spheres) {
     scene.render.particles.spheres = true;
     if (*spheres == "kind") scene.render.particles.colourBy = ParticleColouring::Kind;
@@ -113,7 +123,7 @@ int commandStill(std::vector<std::string> rawArgs) {
     // The run's own frame rate (a preview run may have its own, preview_quality.fps), from its
     // run.json, so that T finds the right frame whatever --quality this still is rendered at.
     try {
-      const nlohmann::json run = nlohmann::json::parse(readText(fs::path(*from) / "run.json"));
+      const nlohmann::json run = readJson(fs::path(*from) / "run.json");
       const double fps = run.at("parameters").at("output").at("fps").get<double>();
       if (fps > 0.0 && std::isfinite(fps)) scene.output.fps = float(fps);
     } catch (const std::exception&) {

@@ -5,6 +5,7 @@
 #include "pipeline/scene.h"
 #include "sim/simulation.h"
 
+#include <csignal>
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -60,6 +61,10 @@ int dispatch(const std::string& command, std::vector<std::string> args) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) must not kill the process mid-write: with SIGXFSZ ignored the
+  // write fails with EFBIG, and the checked write (pipeline/io/files.h) reports it naming the
+  // file, removes its temporary, and run.json says the run failed.
+  std::signal(SIGXFSZ, SIG_IGN);
   try {
     if (argc < 2) throw UsageError("missing command");
     return dispatch(argv[1], std::vector<std::string>(argv + 2, argv + argc));

@@ -5,27 +5,63 @@
 #include "pipeline/stages.h"
 
 #include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <stdexcept>
 #include <sstream>
 
 namespace kurage::pipeline {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// A word for bash: single-quoted, with ' written as '\''.
 std::string shellWord(const std::string& s) {
   std::string out = "'";
   for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return out + "'";
 }
 
+namespace {
+
+bool hasControlCharacter(const std::string& s) {
+  for (const char c : s)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) return true;
+  return false;
+}
+
+bool onlyCharacters(const std::string& s, const char* punctuation) {
+  for (const char c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && !std::strchr(punctuation, c)) return false;
+  return true;
+}
+
+// Text for inside the double quotes of an #SBATCH value as sbatch reads it (get_argument in
+// Slurm's sbatch/opt.c: quotes group, a backslash escapes the next character): \ and " escaped.
+// In a file name pattern (--output) a literal % is written %%.
+std::string sbatchQuoted(const std::string& s, bool filePattern) {
+  std::string out;
+  for (const char c : s) {
+    if (c == '\\' || c == '"') out += '\\';
+    out += c;
+    if (filePattern && c == '%') out += '%';
+  }
+  return out;
+}
+
+// The scene's name in a job name: letters, digits, _ . - only (the rest as _).
+std::string jobNamePart(const std::string& s) {
+  std::string out = s.substr(0, 64);
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '.' && c != '-') c = '_';
+  return out;
+}
+
 std::string header(const FarmPlan& plan, const std::string& stage, const std::string& log) {
+  if (const std::string problem = farmPlanProblem(plan); !problem.empty()) throw std::invalid_argument(problem);
   std::ostringstream s;
   s << "#!/bin/bash\n"
     << "# kurage farm: " << stage << " of " << plan.sceneFile.string() << " into " << plan.outDir.string() << "\n"
-    << "#SBATCH --job-name=kurage-" << plan.sceneName << "-" << stage << "\n"
-    << "#SBATCH --output=" << (plan.outDir / "farm/logs" / log).string() << "\n";
+    << "#SBATCH --job-name=kurage-" << jobNamePart(plan.sceneName) << "-" << stage << "\n"
+    << "#SBATCH --output=\"" << sbatchQuoted((plan.outDir / "farm/logs").string() + "/", true) << log << "\"\n";
   if (!plan.partition.empty()) s << "#SBATCH --partition=" << plan.partition << "\n";
   if (!plan.timeLimit.empty()) s << "#SBATCH --time=" << plan.timeLimit << "\n";
   for (const std::string& a : plan.sbatchArgs) s << "#SBATCH " << a << "\n";
@@ -48,6 +84,23 @@ std::string common(const FarmPlan& plan) {
 }
 
 }  // namespace
+
+std::string farmPlanProblem(const FarmPlan& plan) {
+  const auto lineSafe = [](const std::string& s) { return !hasControlCharacter(s); };
+  if (!lineSafe(plan.outDir.string())) return "-o: OUT must not contain control characters (a newline, a tab, ...)";
+  if (plan.outDir.string().find("packjob") != std::string::npos)
+    return "-o: OUT must not contain \"packjob\" (sbatch takes it for a job separator)";
+  if (!lineSafe(plan.sceneFile.string())) return "SCENE: the scene's path must not contain control characters";
+  if (!lineSafe(plan.kurage.string())) return "the kurage binary's path must not contain control characters";
+  if (!onlyCharacters(plan.partition, "_.,-"))
+    return "--partition: letters, digits and _ . , - only, got " + shellWord(plan.partition);
+  if (!onlyCharacters(plan.timeLimit, ":-"))
+    return "--time-limit: Slurm's time format (minutes, [D-]HH:MM:SS, UNLIMITED), got " + shellWord(plan.timeLimit);
+  for (const std::string& a : plan.sbatchArgs)
+    if (!lineSafe(a)) return "--sbatch-arg: one #SBATCH line without control characters, got " + shellWord(a);
+  if (plan.quality != "final" && plan.quality != "preview") return "--quality: final or preview, got " + shellWord(plan.quality);
+  return "";
+}
 
 std::vector<FarmChunk> frameChunks(int first, int last, int framesPerTask, int maxTasks) {
   const int frames = last - first + 1;

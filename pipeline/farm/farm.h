@@ -46,7 +46,15 @@ struct FarmPlan {
 // chunks of equal size (but the last) when that is fewer.
 std::vector<FarmChunk> frameChunks(int first, int last, int framesPerTask, int maxTasks);
 
-// The job scripts (bash with #SBATCH lines).
+// Why the plan's values cannot go into job scripts, naming the option ("--partition: ..."), or ""
+// when they can. Every value that reaches a script is either a shell word (shellWord), a quoted
+// #SBATCH value, or refused here: control characters anywhere (a newline would end a comment or
+// an #SBATCH line and start a command), a partition other than letters, digits and _ . , -, a
+// time limit other than letters, digits, ':' and '-'.
+std::string farmPlanProblem(const FarmPlan& plan);
+
+// The job scripts (bash with #SBATCH lines). Throw std::invalid_argument when farmPlanProblem
+// finds a problem.
 std::string simScript(const FarmPlan& plan);
 std::string framesScript(const FarmPlan& plan);
 std::string mergeScript(const FarmPlan& plan);
@@ -64,6 +72,9 @@ struct FarmProgress {
 // What is done on disk, by the stage table's upToDate (pipeline/stages.h) for `scene`, the scene
 // of the plan at its quality.
 FarmProgress farmProgress(const FarmPlan& plan, const Scene& scene);
+
+// A word for bash: single-quoted, with ' written as '\''.
+std::string shellWord(const std::string& s);
 
 // "3-5, 9" style list of frame numbers.
 std::string frameList(const std::vector<int>& frames);

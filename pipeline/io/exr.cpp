@@ -104,6 +104,7 @@ void writeExr(const fs::path& path, const render::Image& beauty, const render::F
 }
 
 ExrFrame readExr(const fs::path& path) {
+  requireRegularFile(path);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i window = file.header().dataWindow();

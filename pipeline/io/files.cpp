@@ -39,7 +39,7 @@ TempFile::TempFile(fs::path target) : target_(std::move(target)) {
     name += std::to_string(temporaryCounter++);
     name += ".tmp";
     temp_ = folder / name;
-    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    fd_ = ::open(temp_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
     if (fd_ >= 0) return;
     if (errno != EEXIST) fail(target_, "cannot create the temporary file " + temp_.string(), errno);
   }
@@ -71,7 +71,7 @@ void TempFile::write(std::string_view bytes) {
 
 void TempFile::commit() {
   if (fd_ < 0) {  // written by another program: reopen to fsync what it wrote
-    fd_ = ::open(temp_.c_str(), O_RDONLY | O_CLOEXEC);
+    fd_ = ::open(temp_.c_str(), O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
     if (fd_ < 0) fail(target_, "cannot reopen " + temp_.string(), errno);
   }
   if (::fsync(fd_) != 0) fail(target_, "cannot sync", errno);
@@ -100,14 +100,21 @@ void writeFileAtomic(const fs::path& target, std::string_view bytes) {
 
 void writeTextAtomic(const fs::path& target, const std::string& text) { writeFileAtomic(target, text); }
 
-std::string readFile(const fs::path& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+std::string readFile(const fs::path& path, size_t maxBytes) {
+  // Non-blocking, so that opening a FIFO returns at once and fstat can refuse it.
+  const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
   if (fd < 0) fail(path, "cannot open", errno);
   struct stat info {};
   if (::fstat(fd, &info) != 0 || !S_ISREG(info.st_mode)) {
     ::close(fd);
-    throw IoError(path.string() + ": not a regular file");
+    throw IoError(path.string() + ": not a regular file (a FIFO, a device or a folder cannot be read)");
   }
+  if (uint64_t(info.st_size) > maxBytes) {
+    ::close(fd);
+    throw IoError(path.string() + ": " + std::to_string(info.st_size) + " bytes, more than the " +
+                  std::to_string(maxBytes) + " such a file may have");
+  }
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
   std::string bytes;
   bytes.reserve(size_t(info.st_size));
   char buffer[1 << 16];
@@ -120,13 +127,45 @@ std::string readFile(const fs::path& path) {
       fail(path, "cannot read", error);
     }
     if (n == 0) break;
+    if (bytes.size() + size_t(n) > maxBytes) {  // grew while being read
+      ::close(fd);
+      throw IoError(path.string() + ": more than the " + std::to_string(maxBytes) + " bytes such a file may have");
+    }
     bytes.append(buffer, size_t(n));
   }
   ::close(fd);
   return bytes;
 }
 
+void requireRegularFile(const fs::path& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) fail(path, "cannot open", errno);
+  if (!S_ISREG(info.st_mode))
+    throw IoError(path.string() + ": not a regular file (a FIFO, a device or a folder cannot be read)");
+}
+
 std::string readText(const fs::path& path) { return readFile(path); }
+
+fs::path outputFolder(const fs::path& outDir, const fs::path& relative) {
+  if (relative.is_absolute()) throw IoError((outDir / relative).string() + ": not a folder inside " + outDir.string());
+  std::error_code ec;
+  fs::create_directories(outDir, ec);
+  if (ec) throw IoError(outDir.string() + ": cannot create the output folder: " + ec.message());
+  fs::path folder = outDir;
+  for (const fs::path& part : relative) {
+    if (part.empty() || part == ".") continue;
+    folder /= part;
+    if (part == "..") throw IoError(folder.string() + ": not a folder inside " + outDir.string());
+    if (::mkdir(folder.c_str(), 0777) != 0 && errno != EEXIST) fail(folder, "cannot create the folder", errno);
+    struct stat info {};
+    if (::lstat(folder.c_str(), &info) != 0) fail(folder, "cannot inspect the folder", errno);
+    if (S_ISLNK(info.st_mode))
+      throw IoError(folder.string() + ": is a symbolic link; kurage writes only into real folders inside " +
+                    outDir.string() + " (remove the link)");
+    if (!S_ISDIR(info.st_mode)) throw IoError(folder.string() + ": exists and is not a folder");
+  }
+  return folder;
+}
 
 fs::path frameFile(const fs::path& folder, int frame, const char* extension) {
   char name[32];

@@ -3,9 +3,15 @@
 //  - a final name only ever holds a complete file: bytes go to a temporary beside the target,
 //    unique to the process and created exclusively (O_EXCL), every write and the close are
 //    checked, the file is fsync'ed, renamed over the target, and the folder is fsync'ed;
-//  - on any failure the temporary is removed and an IoError naming the target is thrown.
+//  - on any failure the temporary is removed and an IoError naming the target is thrown;
+//  - nothing is written through a link: temporaries are created with O_EXCL | O_NOFOLLOW, and
+//    the folders under OUT come from outputFolder(), which refuses a symbolic link or a file
+//    where a folder should be (a link at OUT/frames would send the frames elsewhere).
+// Reads take regular files only: a FIFO, a device or a folder is an error naming it, never a
+// read that blocks for ever (the file is opened non-blocking and checked with fstat first).
 #pragma once
 
+#include <cstdint>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -50,9 +56,19 @@ void writeFileAtomic(const std::filesystem::path& target, std::string_view bytes
 // Writes text to `target` atomically. Throws IoError naming the path.
 void writeTextAtomic(const std::filesystem::path& target, const std::string& text);
 
-// Reads a whole file, checking every read. Throws IoError naming the path.
-std::string readFile(const std::filesystem::path& path);
+// Reads a whole regular file, checking every read. Throws IoError naming the path for anything
+// but a regular file and for a file larger than `maxBytes`.
+std::string readFile(const std::filesystem::path& path, size_t maxBytes = SIZE_MAX);
 std::string readText(const std::filesystem::path& path);
+
+// Throws IoError naming `path` unless it is a regular file (or a link to one): for readers that
+// open a file by name themselves (OpenEXR, libpng), so that a FIFO is refused, not waited on.
+void requireRegularFile(const std::filesystem::path& path);
+
+// OUT/relative as a folder kurage may write into, made folder by folder as needed (OUT itself
+// too; OUT may be a link, the user chose it). Throws IoError naming the path when a folder below
+// OUT is a symbolic link or not a folder, or `relative` is absolute or has a ".." part.
+std::filesystem::path outputFolder(const std::filesystem::path& outDir, const std::filesystem::path& relative);
 
 // Removes the temporaries (".NAME.PID.N.tmp") in `folder` and its subfolders left by processes
 // that no longer run on this machine (a run killed with SIGKILL, a power cut); returns how many.

@@ -4,8 +4,6 @@
 
 #include <array>
 #include <cstdint>
-#include <fstream>
-#include <sstream>
 
 namespace kurage::pipeline {
 
@@ -65,11 +63,12 @@ void writePng(const render::Image& image, const std::filesystem::path& path, boo
 }
 
 bool pngStampMatches(const std::filesystem::path& path, const FileStamp& expected) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  const std::string bytes = buffer.str();
+  std::string bytes;
+  try {
+    bytes = readFile(path);
+  } catch (const IoError&) {
+    return false;  // missing, unreadable or not a regular file: redo it
+  }
   if (bytes.compare(0, kPngSignature.size(), kPngSignature) != 0) return false;
   bool stamped = false;
   for (size_t at = kPngSignature.size();;) {

@@ -1,6 +1,9 @@
 #include "pipeline/io/process.h"
 
 #include <cerrno>
+#include <chrono>
+#include <poll.h>
+#include <thread>
 #include <csignal>
 #include <sys/prctl.h>
 #include <sys/wait.h>
@@ -8,7 +11,7 @@
 
 namespace kurage::pipeline {
 
-int runProgram(const std::vector<std::string>& argv, std::string* output) {
+int runProgram(const std::vector<std::string>& argv, std::string* output, const StopRequested& stop) {
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
@@ -32,8 +35,28 @@ int runProgram(const std::vector<std::string>& argv, std::string* output) {
     ::close(pipeFds[0]);
     return -1;
   }
+  // Read what it prints until it closes its end, asking `stop` every 100 ms.
   char buffer[4096];
   while (true) {
+    if (stop && stop()) {
+      ::kill(pid, SIGTERM);
+      const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+      int status = 0;
+      pid_t reaped = 0;
+      while ((reaped = ::waitpid(pid, &status, WNOHANG)) == 0 && std::chrono::steady_clock::now() < deadline)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      if (reaped == 0) {
+        ::kill(pid, SIGKILL);
+        while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+        }
+      }
+      ::close(pipeFds[0]);
+      return kProgramStopped;
+    }
+    pollfd ready{pipeFds[0], POLLIN, 0};
+    const int polled = ::poll(&ready, 1, stop ? 100 : -1);
+    if (polled < 0 && errno == EINTR) continue;
+    if (polled == 0) continue;
     const ssize_t n = ::read(pipeFds[0], buffer, sizeof buffer);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) break;

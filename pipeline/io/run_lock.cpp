@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <sys/file.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 namespace kurage::pipeline {
@@ -15,8 +16,21 @@ RunLock::RunLock(const std::filesystem::path& outDir, const std::string& command
   std::filesystem::create_directories(outDir, ec);
   if (ec) throw IoError(outDir.string() + ": cannot create the output folder: " + ec.message());
   const std::filesystem::path file = outDir / ".kurage.lock";
-  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0666);
-  if (fd_ < 0) throw IoError(file.string() + ": cannot open the run lock: " + std::strerror(errno));
+  // Never through a link (a link here pointing outside OUT had its target truncated), never a
+  // FIFO or a device (non-blocking open, then fstat).
+  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC, 0666);
+  if (fd_ < 0) {
+    const int error = errno;
+    throw IoError(file.string() + ": cannot open the run lock: " +
+                  (error == ELOOP ? std::string("it is a symbolic link; kurage writes through no link (remove it)")
+                                  : std::string(std::strerror(error))));
+  }
+  struct stat info {};
+  if (::fstat(fd_, &info) != 0 || !S_ISREG(info.st_mode)) {
+    ::close(fd_);
+    fd_ = -1;
+    throw IoError(file.string() + ": the run lock is not a regular file (remove it)");
+  }
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int error = errno;
     std::string holder;

@@ -1,6 +1,7 @@
 // One run per output folder: OUT/.kurage.lock, held with flock(2) for the life of the process
 // (the kernel releases it when the process ends, however it ends). The file holds the holder's
-// pid and command, so that a refused run can name it.
+// pid and command, so that a refused run can name it. A link or anything but a regular file at
+// OUT/.kurage.lock is refused, never followed.
 #pragma once
 
 #include <filesystem>

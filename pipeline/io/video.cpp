@@ -67,7 +67,7 @@ bool onPath(const std::string& program) {
 }
 
 VideoResult encodeVideo(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie,
-                        const std::string& stamp, bool force) {
+                        const std::string& stamp, bool force, const StopRequested& stop) {
   char rate[32];
   std::snprintf(rate, sizeof rate, "%g", fps);
   std::vector<std::string> command = {
@@ -95,7 +95,8 @@ VideoResult encodeVideo(const fs::path& framesFolder, int first, int count, doub
   TempFile temporary(movie);
   command.back() = temporary.path().string();
   std::string log;
-  const int status = runProgram(command, &log);
+  const int status = runProgram(command, &log, stop);
+  if (status == kProgramStopped) throw IoError(movie.string() + ": stopped before ffmpeg finished; no movie written");
   if (status != 0 || !trimmed(log).empty())
     throw IoError(movie.string() + ": ffmpeg failed (exit status " + std::to_string(status) + ")" +
                   (trimmed(log).empty() ? "" : ": " + trimmed(log)));
@@ -118,8 +119,8 @@ VideoResult encodeVideo(const fs::path& framesFolder, int first, int count, doub
 }
 
 void encodeVideoAndReport(const fs::path& framesFolder, int first, int count, double fps, const fs::path& movie,
-                          const std::string& stamp, bool force) {
-  const VideoResult video = encodeVideo(framesFolder, first, count, fps, movie, stamp, force);
+                          const std::string& stamp, bool force, const StopRequested& stop) {
+  const VideoResult video = encodeVideo(framesFolder, first, count, fps, movie, stamp, force, stop);
   if (video.upToDate)
     std::printf("video: %s (up to date: made from the same frames and settings)\n", movie.string().c_str());
   else if (video.encoded)

@@ -3,6 +3,8 @@
 // prints the command that would encode them.
 #pragma once
 
+#include "pipeline/io/process.h"
+
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -20,12 +22,15 @@ struct VideoResult {
 // std::runtime_error if ffmpeg fails (the temporary file is removed).
 // `stamp` (e.g. "video RENDERHASH FIRST COUNT FPS") goes into the movie's comment tag; a movie that
 // ffprobe reads whole, with `count` frames and this stamp, is kept (upToDate) unless `force`.
+// `stop` returning true ends ffmpeg (runProgram) and throws IoError; no movie is left.
 VideoResult encodeVideo(const std::filesystem::path& framesFolder, int first, int count, double fps,
-                        const std::filesystem::path& movie, const std::string& stamp = "", bool force = false);
+                        const std::filesystem::path& movie, const std::string& stamp = "", bool force = false,
+                        const StopRequested& stop = {});
 
 // Encodes and prints "video: PATH", or a line saying how to encode the frames.
 void encodeVideoAndReport(const std::filesystem::path& framesFolder, int first, int count, double fps,
-                          const std::filesystem::path& movie, const std::string& stamp = "", bool force = false);
+                          const std::filesystem::path& movie, const std::string& stamp = "", bool force = false,
+                          const StopRequested& stop = {});
 
 // True if an executable named `program` is on the PATH.
 bool onPath(const std::string& program);

@@ -43,7 +43,7 @@ void describe(V& v, StudyKnob& p) {
   nlohmann::json raw;
   v.value("values", raw, {"", "the values the path takes, one run each"});
   if (!raw.is_null()) {
-    if (!raw.is_array() || raw.empty()) v.fail("values", "must be a non-empty array, got " + raw.dump());
+    if (!raw.is_array() || raw.empty()) v.fail("values", "must be a non-empty array, got " + jsonExcerpt(raw));
     p.values.assign(raw.begin(), raw.end());
   }
   v.list("variants", p.variants, {"", "instead of path and values: labelled sets of scene values"});
@@ -194,7 +194,7 @@ Study parseStudy(const nlohmann::json& document, const fs::path& file) {
   study.file = file;
   auto fail = [&name](const std::string& path, const std::string& message) { throw SceneError(name, path, message); };
 
-  if (!study.set.is_object()) fail("set", "must be an object of JSON paths and values, got " + study.set.dump());
+  if (!study.set.is_object()) fail("set", "must be an object of JSON paths and values, got " + jsonExcerpt(study.set));
   if (study.knobs.empty() || study.knobs.size() > 2) fail("knobs", "must hold one or two knobs");
   for (size_t k = 0; k < study.knobs.size(); ++k) {
     StudyKnob& knob = study.knobs[k];
