@@ -36,6 +36,7 @@ namespace {
 namespace fs = std::filesystem;
 using kurage::test::expectErrorNamingPath;
 using kurage::test::TempDir;
+using kurage::test::temporariesIn;
 
 const fs::path kTinyScene = test::sourceDir() / "tests/scenes/tiny_dam_break.json";
 
@@ -61,21 +62,14 @@ int inChildWithFileSizeLimit(rlim_t bytes, Body body) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
-// build/kurage under a file-size limit (KiB), SIGXFSZ ignored; output into `log`.
-int runKurageLimited(const std::string& arguments, int kib, const fs::path& log) {
-  const std::string command = "bash -c \"ulimit -f " + std::to_string(kib) + "; trap '' XFSZ; exec " +
+// build/kurage under a file-size limit (KiB), SIGXFSZ ignored by the shell (or left to kurage,
+// which ignores it itself: `trapped` false, a plain `ulimit -f`); output into `log`.
+int runKurageLimited(const std::string& arguments, int kib, const fs::path& log, bool trapped = true) {
+  const std::string command = "bash -c \"ulimit -f " + std::to_string(kib) + "; " + (trapped ? "trap '' XFSZ; " : "") + "exec " +
                               (test::binaryDir() / "kurage").string() + " " + arguments + "\" > " + log.string() +
                               " 2>&1";
   const int status = std::system(command.c_str());
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-}
-
-std::vector<fs::path> temporariesIn(const fs::path& folder) {
-  std::vector<fs::path> found;
-  if (!fs::exists(folder)) return found;
-  for (const auto& entry : fs::recursive_directory_iterator(folder))
-    if (entry.path().extension() == ".tmp") found.push_back(entry.path());
-  return found;
 }
 
 ParticleFrame smallFrame(size_t n, unsigned seed, int number = 3) {
@@ -174,6 +168,24 @@ TEST(FullDisk, EveryStageFailsCleanly) {
   expectCleanFailure(runKurageLimited("render --no-video --width 256 --height 192 --spp 1 " + scene, 16, log), log,
                      "frames/0000.png", out);
   EXPECT_FALSE(fs::exists(out / "frames/0000.png"));
+}
+
+// A plain `ulimit -f` leaves SIGXFSZ at its default action, which ends a process mid-write
+// without a word (exit 153): kurage ignores it, so the checked write reports the full disk.
+TEST(FullDisk, AFileSizeLimitWithTheSignalLeftAloneFailsCleanlyToo) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const fs::path log = dir.path() / "log.txt";
+  const std::string scene = kTinyScene.string() + " -o " + out.string() + " --threads 2 ";
+  expectCleanFailure(runKurageLimited("sim " + scene, 8, log, false), log, "particles/0000.vdb", out);
+  EXPECT_EQ(nlohmann::json::parse(readText(out / "run.json"))["status"], "failed");
+  ASSERT_EQ(test::runKurage("sim " + scene, log), 0) << readText(log);
+  expectCleanFailure(runKurageLimited("surface " + scene, 64, log, false), log, "surfaces/0000.vdb", out);
+  EXPECT_EQ(nlohmann::json::parse(readText(out / "run.json"))["status"], "failed");
+  ASSERT_EQ(test::runKurage("surface " + scene, log), 0) << readText(log);
+  // export (no run.json of its own): a PLY of the particles is ~9 KB.
+  expectCleanFailure(runKurageLimited("export " + out.string() + " --format particles_ply", 4, log, false), log,
+                     "exports/particles/0000.ply", out);
 }
 
 TEST(FullDisk, VideoFailureIsAnErrorAndLeavesNoMovie) {

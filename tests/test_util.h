@@ -50,12 +50,22 @@ inline int runKurage(const std::string& arguments, const std::filesystem::path& 
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// How startKurage starts the child: variables set in its environment, and whether it leads a
+// process group of its own (so that a test can signal the group, as Ctrl-C in a terminal does).
+struct StartOptions {
+  std::vector<std::pair<std::string, std::string>> environment;
+  bool ownProcessGroup = false;
+};
+
 // Starts build/kurage with the given arguments in a child process, stdout and stderr appended
 // to `log`; returns its pid (for tests that signal it).
-inline pid_t startKurage(const std::vector<std::string>& args, const std::filesystem::path& log) {
+inline pid_t startKurage(const std::vector<std::string>& args, const std::filesystem::path& log,
+                         const StartOptions& options = {}) {
   const std::string kurage = (binaryDir() / "kurage").string();
   const pid_t pid = ::fork();
   if (pid == 0) {
+    if (options.ownProcessGroup) ::setpgid(0, 0);
+    for (const auto& [name, value] : options.environment) ::setenv(name.c_str(), value.c_str(), 1);
     const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     ::dup2(fd, 1);
     ::dup2(fd, 2);
@@ -73,6 +83,15 @@ inline int waitFor(pid_t pid) {
   int status = 0;
   ::waitpid(pid, &status, 0);
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// The temporaries (".NAME.PID.N.tmp") under `folder`.
+inline std::vector<std::filesystem::path> temporariesIn(const std::filesystem::path& folder) {
+  std::vector<std::filesystem::path> found;
+  if (!std::filesystem::exists(folder)) return found;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(folder))
+    if (entry.path().extension() == ".tmp") found.push_back(entry.path());
+  return found;
 }
 
 // Expects `call` to throw std::runtime_error whose message names `path` (and contains `detail`).
