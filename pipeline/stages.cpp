@@ -405,6 +405,7 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
   Progress progress(stage.name, int(todo.size()), options.progress);
   FrameTally tally;
   int done = 0;
+  context.renderer.setStopCheck(interruptPending);  // a signal ends a frame between pixels
   for (int f : todo) {
     throwIfInterrupted();
     try {
@@ -412,6 +413,9 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
     } catch (const std::bad_alloc&) {
       throw std::runtime_error(std::string(stage.name) + ": frame " + std::to_string(f) +
                                ": out of memory (`kurage check` estimates the memory of each stage)");
+    } catch (...) {
+      throwIfInterrupted();  // whatever a signal cut short (a frame stopped, ffmpeg ended) was interrupted
+      throw;
     }
     progress.advance(++done);
   }

@@ -18,7 +18,8 @@ constexpr int kTileSize = 16;
 }  // namespace
 
 Image renderImage(const CameraRays& camera, const Integrator& integrator,
-                  const RenderSettings& settings, RayCounters& totals, FeatureBuffers* features) {
+                  const RenderSettings& settings, RayCounters& totals, FeatureBuffers* features,
+                  const std::function<bool()>& stop) {
   const int width = settings.width, height = settings.height;
   Image image(width, height);
   if (features) {
@@ -45,6 +46,7 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
       const int x0 = (tile % tilesX) * kTileSize, y0 = (tile / tilesX) * kTileSize;
       for (int y = y0; y < std::min(y0 + kTileSize, height); ++y)
         for (int x = x0; x < std::min(x0 + kTileSize, width); ++x) {
+          if (stop && stop()) throw RenderStopped();  // TBB cancels the other tiles and rethrows
           const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(width) + static_cast<uint32_t>(x);
           Vector3f sum = Vector3f::Zero(), albedoSum = Vector3f::Zero(), normalSum = Vector3f::Zero(),
                    sunSum = Vector3f::Zero();

@@ -25,9 +25,11 @@
 namespace kurage::render {
 
 // The frame's image; adds its rays and samples to `totals`. `features`, when given (a noisy
-// integrator), is sized and filled.
+// integrator), is sized and filled. `stop`, when given, is asked before every pixel (from the
+// worker threads): true throws RenderStopped (renderer.h).
 Image renderImage(const CameraRays& camera, const Integrator& integrator,
-                  const RenderSettings& settings, RayCounters& totals, FeatureBuffers* features);
+                  const RenderSettings& settings, RayCounters& totals, FeatureBuffers* features,
+                  const std::function<bool()>& stop = {});
 
 // The compositing layers (frame_layers.h): one ray through each pixel centre and the lens centre.
 // objectNames stay empty.

@@ -58,6 +58,7 @@ struct Renderer::Impl {
   std::optional<EnvironmentSampler> sampler;
   Environment samplerEnvironment;
   std::optional<Eigen::Vector3f> samplerBelow;
+  std::function<bool()> stop;
 
   const EnvironmentSampler& environmentSampler(const RenderScene& scene) {
     std::optional<Eigen::Vector3f> below;
@@ -75,6 +76,8 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
 Renderer::~Renderer() = default;
 Renderer::Renderer(Renderer&&) noexcept = default;
 Renderer& Renderer::operator=(Renderer&&) noexcept = default;
+
+void Renderer::setStopCheck(std::function<bool()> stop) { impl_->stop = std::move(stop); }
 
 int Renderer::staticBuilds() const { return impl_->geometry ? impl_->geometry->staticBuilds() : 0; }
 
@@ -100,8 +103,9 @@ Image Renderer::render(const RenderScene& scene, const RenderSettings& settings,
   const bool denoising = settings.denoise.enabled && integrator->noisy();
   FeatureBuffers features;
   RayCounters counters;
-  Image image = renderImage(camera, *integrator, settings, counters, denoising ? &features : nullptr);
+  Image image = renderImage(camera, *integrator, settings, counters, denoising ? &features : nullptr, d.stop);
   d.geometry->throwIfError("rendering");
+  if (d.stop && d.stop()) throw RenderStopped();  // before the denoiser and the layers
   if (denoising)
     image = denoise(image, features, settings.denoise,
                     std::max(1.0, double(counters.samples) / (double(settings.width) * double(settings.height))));

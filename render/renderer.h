@@ -23,7 +23,9 @@
 #include "render/scene.h"
 
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <stdexcept>
 
 namespace kurage::render {
 
@@ -91,6 +93,12 @@ struct RenderStats {
   bool staticBuilt = false;   // the static meshes' BVH was (re)built for this frame
 };
 
+// Thrown by Renderer::render when its stop check asked it to end the frame early.
+class RenderStopped : public std::runtime_error {
+public:
+  RenderStopped() : std::runtime_error("rendering stopped before the frame was finished") {}
+};
+
 class Renderer {
 public:
   Renderer();  // cheap: the Embree device is made by the first frame
@@ -104,6 +112,10 @@ public:
   // objectNames are left as they were. `scene` is read only during the call.
   Image render(const RenderScene& scene, const RenderSettings& settings, RenderStats* stats = nullptr,
                FrameLayers* layers = nullptr);
+
+  // Asked before every pixel, from the worker threads (so it must be thread-safe and cheap):
+  // true ends the frame at once with RenderStopped. Empty (the default): never asked.
+  void setStopCheck(std::function<bool()> stop);
 
   // How many times the static meshes' BVH was built so far (for tests).
   int staticBuilds() const;

@@ -275,16 +275,20 @@ TEST(HostileSignals, SigtermDuringTheLastFrameEndsTheRunInterrupted) {
   ASSERT_EQ(run({"sim", scene[0], scene[1], scene[2]}, log), 0) << readText(log);
   ASSERT_EQ(run({"surface", scene[0], scene[1], scene[2]}, log), 0) << readText(log);
   fs::remove(out / "run.json");
-  // One frame, the last, long on purpose; the signal once the run has started (run.json).
+  // One frame, the last, long on purpose (minutes: 320 x 240 at 4096 samples on one thread); the
+  // signal once the run has started (run.json) and the frame with it.
   const pid_t pid = test::startKurage({"render", kTinyScene.string(), "-o", out.string(), "--frames", "4",
-                                       "--width", "320", "--height", "240", "--spp", "256", "--no-video", "--threads",
-                                       "1"},
+                                       "--width", "320", "--height", "240", "--spp", "4096", "--no-video",
+                                       "--threads", "1"},
                                       log);
   ASSERT_TRUE(waitForFile(out / "run.json", std::chrono::seconds(60)));
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto signalled = Clock::now();
   ::kill(pid, SIGTERM);
   int status = 0;
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_LT(secondsSince(signalled), 3.0) << "the frame went on after the signal";
+  EXPECT_FALSE(fs::exists(out / "frames/0004.png"));
   ASSERT_TRUE(WIFEXITED(status)) << "killed by the signal, not stopped: " << readText(log);
   EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << readText(log);
   EXPECT_TRUE(contains(readText(log), "interrupted by SIGTERM")) << readText(log);
