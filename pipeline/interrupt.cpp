@@ -1,7 +1,9 @@
 #include "pipeline/interrupt.h"
 
+#include <chrono>
 #include <csignal>
 #include <cstring>
+#include <optional>
 
 namespace kurage::pipeline {
 
@@ -31,6 +33,15 @@ void installInterruptHandlers() {
 }
 
 bool interruptPending() { return receivedSignal != 0; }
+
+std::function<bool()> interruptPendingFor(double graceSeconds) {
+  using Clock = std::chrono::steady_clock;
+  return [graceSeconds, seen = std::optional<Clock::time_point>()]() mutable {
+    if (!interruptPending()) return false;
+    if (!seen) seen = Clock::now();
+    return std::chrono::duration<double>(Clock::now() - *seen).count() >= graceSeconds;
+  };
+}
 
 void throwIfInterrupted() {
   if (const int signal = receivedSignal) throw Interrupted(signal);

@@ -112,6 +112,10 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   sim::Simulation simulation(scene.sim);
   BodyTrack track(scene.sim, scene.name, scene.output.frameCount());
   track.start(simulation);
+  // A signal ends the frame being simulated after the step it arrives in, and the checkpoint holds
+  // that step's state (a resume continues bit for bit); a step whose solve runs on for more than a
+  // second after it is cut short and thrown away (a resume starts at the newest checkpoint).
+  simulation.setStopChecks(interruptPending, interruptPendingFor(1.0));
   const fs::path checkpoint = checkpointFile(options.outDir);
   const int resumed = options.resume ? resumeSimulation(scene, options, simHash, simulation, track) : -1;
   int saved = resumed;  // the frame of the newest checkpoint
@@ -127,7 +131,13 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
       if (f - 1 > saved) save(f - 1);  // a resume starts after the last frame done
       throwIfInterrupted();
     }
-    simulation.advanceTo(scene.output.frameTime(f));
+    try {
+      simulation.advanceTo(scene.output.frameTime(f));
+    } catch (const sim::Stopped& e) {
+      if (!e.cutShort()) save(f - 1);  // frame f - 1 done, and the steps after it
+      throwIfInterrupted();
+      throw;
+    }
     track.record(simulation);
     if (f >= first) {
       ParticleFrame frame = frameFromSimulation(scene, simulation, f);
@@ -157,7 +167,8 @@ std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, con
   return surfaceFrame(scene, readParticleFrame(particleFile));
 }
 
-std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame) {
+std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame,
+                                                     const std::function<bool()>& stop) {
   // Kind 0 is the fluid, kind b + 1 the body b; chains are drawn as curves, not surfaces.
   std::vector<std::vector<Eigen::Vector3f>> byKind(scene.sim.bodies.size() + 1);
   for (size_t i = 0; i < frame.size(); ++i) {
@@ -174,7 +185,7 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
       return std::string(key) + " = " + size + " m: " + what;
     };
     try {
-      levelSet = render::buildMetaballLevelSet(positions, params);
+      levelSet = render::buildMetaballLevelSet(positions, params, stop);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(named(e.what()));
     } catch (const std::bad_alloc&) {
@@ -205,7 +216,7 @@ void surfaceOneFrame(const StageContext& c, int f, FrameTally& tally) {
   const ParticleFrame frame = readParticleFrame(cache, c.stamp("sim", f));
   std::map<std::string, render::LevelSet> surfaces;
   try {
-    surfaces = surfaceFrame(c.scene, frame);
+    surfaces = surfaceFrame(c.scene, frame, interruptPending);  // a signal ends it between passes
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(cache.string() + ": " + e.what());
   }

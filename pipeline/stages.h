@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 #include <vector>
@@ -117,7 +118,9 @@ void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& 
 // Pieces of the stages, for tests and tools.
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
 // The level sets of one frame: "fluid" and one per body (chains excepted), named after it.
-std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame);
+// `stop` ends it between the surfacing's passes (render::SurfacingStopped).
+std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame,
+                                                     const std::function<bool()>& stop = {});
 // OUT/NAME.mp4 from OUT/frames (frames first..last) when the scene writes PNG frames; otherwise
 // says there is no video. A movie already made from the same frames and render settings (its
 // stamp) is kept unless `force`.

@@ -552,7 +552,11 @@ Eigen::Vector3f toEigen(const openvdb::Vec3s& v) { return {v.x(), v.y(), v.z()};
 
 }  // namespace
 
-LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params) {
+LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params,
+                               const std::function<bool()>& stop) {
+  const auto checkStop = [&stop] {
+    if (stop && stop()) throw SurfacingStopped();
+  };
   checkParams(params);
   openvdb::initialize();
   if (positions.size() > std::numeric_limits<uint32_t>::max()) {
@@ -569,17 +573,21 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
     std::vector<Eigen::Vector3f> centres(kernels.size());
     std::vector<Eigen::Matrix3f> shapes(kernels.size());
     for (size_t i = 0; i < kernels.size(); ++i) centres[i] = kernels[i].centre, shapes[i] = kernels[i].shape;
+    checkStop();
     field = sumField(centres, shapes, params);
   } else {
     field = sumField(positions, {}, params);
   }
+  checkStop();
   const std::vector<SurfaceSamples> crossings = findCrossings(field, params.threshold);
   if (std::all_of(crossings.begin(), crossings.end(), [](const auto& c) { return c.voxels.empty(); })) {
     // No voxel centre reaches the threshold: the surface is below the resolution.
     result.impl->grid = emptyLevelSetGrid(params.voxelSize, params.halfWidth);
     return result;
   }
+  checkStop();
   openvdb::FloatGrid::Ptr sdf = narrowBand(field, crossings, params);
+  checkStop();
   openvdb::tools::signedFloodFill(sdf->tree());  // leaves left out -> +-background tiles
   openvdb::tools::pruneLevelSet(sdf->tree());
   result.impl->grid = sdf;

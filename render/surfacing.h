@@ -30,9 +30,11 @@
 #include <Eigen/Core>
 
 #include <filesystem>
+#include <functional>
 #include <iosfwd>
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -75,9 +77,17 @@ public:
   std::unique_ptr<Impl> impl;
 };
 
+// Thrown by buildMetaballLevelSet when its stop check asked it to end.
+class SurfacingStopped : public std::runtime_error {
+public:
+  SurfacingStopped() : std::runtime_error("surfacing stopped before the level set was finished") {}
+};
+
 // Builds the metaball level set of the given particle positions (world space, metres), with the
-// kernel params.kernel. An empty input yields an empty level set.
-LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params);
+// kernel params.kernel. An empty input yields an empty level set. `stop`, when given, is asked
+// between the passes (kernels, field, crossings, narrow band): true throws SurfacingStopped.
+LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params,
+                               const std::function<bool()>& stop = {});
 
 // Intersects a level set with the inside of the axis-aligned box [boxMin, boxMax] (world space,
 // metres): CSG on signed distances, phi' = max(phi, phi_box), phi_box the exact signed distance to

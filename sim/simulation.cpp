@@ -183,6 +183,10 @@ SolverContext Simulation::solverContext() {
   if (!boundaryBodies_.empty()) c.boundaryBodies = &boundaryBodies_;
   c.lastStep = lastStep_;
   c.gravity = params_.gravity;
+  if (stopInSolve_) {
+    c.stop = &stopInSolve_;
+    c.cutShort = &solveCutShort_;
+  }
   return c;
 }
 
@@ -535,6 +539,14 @@ void Simulation::advanceTo(double t) {
       msg << "time " << time_ << " s: a particle velocity became non-finite (the step " << dt << " s, set by the "
           << stepBoundName(limit.bound) << " bound, is too large for the scene's stiffness; try a smaller time_step)";
       throw SimulationError(msg.str());
+    }
+    if (solveCutShort_ || (stopAfterStep_ && stopAfterStep_())) {
+      std::ostringstream msg;
+      msg << "stopped at t = " << time_ << " s, before t = " << t << " s"
+          << (solveCutShort_ ? " (a solve cut short)" : "");
+      const bool cut = solveCutShort_;
+      solveCutShort_ = false;
+      throw Stopped(msg.str(), cut);
     }
   }
 }

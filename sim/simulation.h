@@ -40,6 +40,18 @@ public:
   using std::runtime_error::runtime_error;
 };
 
+// Thrown by advanceTo when a stop check (setStopChecks) asked it to end. Unless cutShort(), the
+// state is that at the end of a whole step, and a checkpoint of it continues bit for bit; cut
+// short, the last step's solve was ended early and the state is only fit to be thrown away.
+class Stopped : public std::runtime_error {
+public:
+  Stopped(const std::string& what, bool cutShort) : std::runtime_error(what), cutShort_(cutShort) {}
+  bool cutShort() const { return cutShort_; }
+
+private:
+  bool cutShort_;
+};
+
 // The parts of one time step, timed apart (run.json's stages.sim.step_phases). Not the pipeline's
 // stages (sim, surface, render, export).
 enum class StepPhase {
@@ -90,6 +102,15 @@ public:
   // Advances until time() == t exactly (the last step is shortened, and a step that would leave
   // a sliver is split in two halves). Throws SimulationError on a non-finite state.
   void advanceTo(double t);
+
+  // So that a signal ends a run whatever its step count or step cost: `afterStep` is asked after
+  // every step, and true makes advanceTo throw Stopped with a whole step's state; `inSolve` is
+  // asked in every iteration of the pressure solves, and true ends the solve and, after that
+  // step, throws Stopped cut short. Empty checks are never asked.
+  void setStopChecks(StopCheck afterStep, StopCheck inSolve = {}) {
+    stopAfterStep_ = std::move(afterStep);
+    stopInSolve_ = std::move(inSolve);
+  }
 
   // One step of the given size (no adaptivity); used by tests.
   void step(float dt);
@@ -144,6 +165,8 @@ private:
   std::vector<float> boundaryLift_;      // per particle, 3 floats: sum_b V_b (g . (x_b - x_i)) grad W_ib
   // (both also from the wall weights, when the solver needs them: computeWallWeightGradient)
   float lastStep_ = 0.0f;
+  StopCheck stopAfterStep_, stopInSolve_;
+  bool solveCutShort_ = false;  // this step's solve was ended by stopInSolve_
   std::vector<double> errorPartial_;     // per chunk sums of measureDensityError()
   std::unique_ptr<WallWeights> wallWeights_;
   std::unique_ptr<BodySystem> bodies_;

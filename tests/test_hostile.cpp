@@ -3,6 +3,7 @@
 // through the library where that is enough and through build/kurage where the promise is the
 // command's (its exit status, what it leaves in OUT).
 #include "pipeline/exports.h"
+#include "pipeline/io/checkpoint.h"
 #include "pipeline/farm/farm.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/json_file.h"
@@ -97,8 +98,7 @@ TEST(HostileJson, NestingDeeperThanTheLimitIsRefusedBeforeParsing) {
   EXPECT_EQ(jsonDepthBeyond("[[[\"\\\"[\"]]]", 3), std::string_view::npos);
   EXPECT_EQ(jsonDepthBeyond("[[[[]]]]", 3), 3u);
 
-  // The command: exit 2 naming the file, in little memory (the parser kept every level's path,
-  // and 200,000 levels grew to gigabytes before the serializer's recursion crashed).
+  // The command: exit 2 naming the file, in little memory (linear in the text).
   const fs::path file = dir.path() / "deep.json";
   writeTextAtomic(file, deep);
   const fs::path log = dir.path() / "log.txt";
@@ -392,6 +392,95 @@ TEST(HostileWork, StepCountsAboveTheLimitAreRefusedNamingTheKey) {
       << readText(log);
   EXPECT_TRUE(contains(readText(log), "--time 1e+300: simulating to it takes at least")) << readText(log);
   EXPECT_FALSE(fs::exists(dir.path() / "still.png"));
+}
+
+// Every pressure solver's run ends within one step, or one iteration of its solve, of a stop
+// check turning true: a step count that no check bounds (--force, a step that falls to min_step)
+// still stops. Stopped after a step, the state continues bit for bit.
+TEST(HostileWork, StopChecksEndTheSimulationAfterAStepOrInASolve) {
+  for (const std::string solver : {"wcsph", "dfsph", "iisph"}) {
+    SCOPED_TRACE(solver);
+    nlohmann::json doc = nlohmann::json::parse(readText(kTinyScene));
+    doc.erase("$schema");
+    if (solver != "wcsph") {
+      doc["fluid"].erase("pressure_stiffness");
+      doc["fluid"]["solver"] = solver;
+    }
+    const Scene scene = parseScene(doc, "edited.json");
+    sim::Simulation reference(scene.sim);
+    reference.advanceTo(0.25);
+    sim::Simulation stopped(scene.sim);
+    int steps = 0;
+    stopped.setStopChecks([&] { return ++steps == 3; });
+    try {
+      stopped.advanceTo(0.25);
+      ADD_FAILURE() << "not stopped";
+    } catch (const sim::Stopped& e) {
+      EXPECT_FALSE(e.cutShort());
+    }
+    EXPECT_EQ(steps, 3);
+    EXPECT_GT(stopped.time(), 0.0);
+    EXPECT_LT(stopped.time(), 0.25);
+    sim::StateWriter state;
+    stopped.saveState(state);
+    sim::Simulation resumed(scene.sim);
+    const std::string bytes = state.take();
+    sim::StateReader reader(bytes);
+    resumed.restoreState(reader);
+    resumed.advanceTo(0.25);
+    EXPECT_EQ(resumed.particles().x, reference.particles().x);
+    EXPECT_EQ(resumed.particles().vz, reference.particles().vz);
+    // The incompressible solvers ask in their solves' iterations, and end the step there.
+    if (solver == "wcsph") continue;
+    sim::Simulation cut(scene.sim);
+    int asked = 0;
+    cut.setStopChecks({}, [&] { return ++asked >= 1; });
+    try {
+      cut.advanceTo(0.25);
+      ADD_FAILURE() << "not stopped";
+    } catch (const sim::Stopped& e) {
+      EXPECT_TRUE(e.cutShort());
+    }
+    EXPECT_EQ(asked, 1);
+    EXPECT_LE(cut.time(), double(scene.sim.timeStep.maxStep)) << "more than one step";
+  }
+}
+
+// The surface stage's frame ends between its passes (field, crossings, narrow band).
+TEST(HostileSignals, SurfacingAFrameStopsBetweenItsPasses) {
+  const Scene scene = loadScene(kTinyScene);
+  sim::Simulation simulation(scene.sim);
+  const ParticleFrame frame = frameFromSimulation(scene, simulation, 0);
+  int asked = 0;
+  EXPECT_THROW(surfaceFrame(scene, frame, [&] { return ++asked >= 2; }), render::SurfacingStopped);
+  EXPECT_EQ(asked, 2);
+  EXPECT_FALSE(surfaceFrame(scene, frame, [] { return false; }).at("fluid").empty());
+}
+
+TEST(HostileSignals, SigtermInAFrameThatNeverEndsStopsTheSimulationWithinSeconds) {
+  TempDir dir;
+  const fs::path out = dir.path() / "out", log = dir.path() / "log.txt";
+  // 1e9 steps to the end, 2.5e8 a frame: past the step limit, run anyway.
+  const fs::path fixed = tinyWith(dir.path(), "fixed", {{"/time_step", {{"mode", "fixed"}, {"fixed_step", 1e-9}}}});
+  const pid_t pid = test::startKurage({"sim", fixed.string(), "-o", out.string(), "--threads", "2", "--force"}, log);
+  ASSERT_TRUE(waitForFile(out / "particles/0000.vdb", std::chrono::seconds(60))) << readText(log);
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  const auto signalled = Clock::now();
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_LT(secondsSince(signalled), 3.0) << "the frame went on after the signal";
+  ASSERT_TRUE(WIFEXITED(status)) << readText(log);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << readText(log);
+  EXPECT_TRUE(contains(readText(log), "interrupted by SIGTERM")) << readText(log);
+  EXPECT_EQ(runStatus(out), "interrupted");
+  EXPECT_FALSE(fs::exists(out / "particles/0001.vdb"));
+  EXPECT_TRUE(temporariesIn(out).empty());
+  // The checkpoint holds the step the signal stopped frame 1 at.
+  const Checkpoint c = readCheckpoint(out / "checkpoint.bin", stageHash(loadScene(fixed, {true}), "sim"));
+  EXPECT_EQ(c.frame, 0);
+  EXPECT_GT(c.time, 0.0);
+  EXPECT_LT(c.time, 0.25);
 }
 
 // ---- 7. memory of every stage -----------------------------------------------------------------

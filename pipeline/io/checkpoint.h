@@ -1,7 +1,8 @@
-// Checkpoints of the simulation stage: OUT/checkpoint.bin, the full state after a frame, from
-// which `kurage sim|run --resume` continues bit for bit (docs/design/reliability.md). The simulation
-// writes one every --checkpoint-every frames, after the last frame, and when SIGINT or SIGTERM
-// stops it; each replaces the one before atomically (pipeline/io/files.h).
+// Checkpoints of the simulation stage: OUT/checkpoint.bin, the full state after a frame (or after
+// the step in which a signal stopped the next frame), from which `kurage sim|run --resume`
+// continues bit for bit (docs/design/reliability.md). The simulation writes one every
+// --checkpoint-every frames, after the last frame, and when SIGINT or SIGTERM stops it; each
+// replaces the one before atomically (pipeline/io/files.h).
 //
 // Layout: the line "KURAGE-CHECKPOINT 1\n"; the kurage:checksum field (pipeline/io/stamp.h,
 // FNV-1a 64 of the whole file, checked before anything else is read); a u32 length and a JSON
@@ -18,7 +19,8 @@ namespace kurage::pipeline {
 
 struct Checkpoint {
   int frame = -1;          // the last frame done
-  double time = 0.0;       // its simulated time, s
+  double time = 0.0;       // the state's simulated time, s: the frame's, or later when a signal
+                           // stopped the next frame between two steps
   std::string simState;    // sim::Simulation::saveState
   std::string stageState;  // the sim stage's records
 };

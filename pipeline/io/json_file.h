@@ -1,7 +1,7 @@
 // JSON from files, bounded: the nesting depth is checked on the raw text before nlohmann's parser
-// sees it (a scene nested 200,000 deep made the strict parser's paths grow to 23 GB and crashed
-// the serializer's recursion when printing the error), and values go into messages as excerpts
-// of bounded length, never dumped whole. Scenes and studies are parsed strictly by
+// sees it (its parser and serializer recurse once per level, and a path kept per level costs the
+// square of the depth), and values go into messages as excerpts of bounded length, never dumped
+// whole. Scenes and studies are parsed strictly by
 // pipeline::parseStrictJson (pipeline/scene.h), which applies the same depth limit.
 #pragma once
 

@@ -29,6 +29,7 @@
 #include <Eigen/Core>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -51,6 +52,9 @@ struct BoundaryBodies {
 // What a solver sees of the step: the sorted particles, their neighbours (found by the density
 // pass, |r_ij| < h) and the walls' sums: from boundary particles, or, for a solver whose needs()
 // ask for them, from the wall weights' tables (null when the walls have neither).
+// Asked between the passes of long work (Simulation::setStopChecks): true ends it early.
+using StopCheck = std::function<bool()>;
+
 struct SolverContext {
   ParticleSet& particles;
   const NeighborLists& neighbors;
@@ -68,6 +72,15 @@ struct SolverContext {
   const BoundaryBodies* boundaryBodies = nullptr;  // null when no body is coupled as a boundary
   float lastStep = 0.0f;                      // the previous step, s (0 before the first)
   Eigen::Vector3f gravity{0.0f, 0.0f, 0.0f};  // g, m/s^2
+  // Asked once per iteration of a solve: true ends the solve there, and *cutShort is set (the
+  // step's state is then only fit to be thrown away). Null: never asked.
+  const StopCheck* stop = nullptr;
+  bool* cutShort = nullptr;
+  bool stopRequested() const {
+    if (!stop || !*stop || !(*stop)()) return false;
+    if (cutShort) *cutShort = true;
+    return true;
+  }
 };
 
 // A combination of parameters a solver cannot run, naming the scene key to change.

@@ -271,6 +271,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     error = sum / double(n) * c.lastStep;
     if (error <= maxDivergenceError_) break;
     if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
+    if (c.stopRequested()) break;
     applyPressure(c, change_.data(), 1.0f, velocity_.data());  // q = dt pi^v: the step cancels (2017, eq. 16)
     forEach(n, [&](size_t i) { qSum_[i] += change_[i]; });
     ++iterations;
@@ -309,6 +310,7 @@ int DfsphSolver::divergenceCg(const SolverContext& c, double& error) {
   int iterations = 0;
   while (error > maxDivergenceError_) {
     if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
+    if (c.stopRequested()) break;
     // A d: the density rate of the velocities -P d (scratch_), negated, on the unknowns' set.
     tbb::parallel_for(size_t(0), n, [&](size_t i) { scratch_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f}; });
     applyPressure(c, direction_.data(), 1.0f, scratch_.data());
@@ -495,6 +497,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     error = sum / double(n);
     if (iterations >= kMinDensityIterations && error <= maxDensityError_) break;
     if (iterations >= maxIterations_) { ++stats_.densityCapHits; break; }
+    if (c.stopRequested()) break;
     applyPressure(c, change_.data(), dt, velocity_.data());
     forEach(n, [&](size_t i) { pi_[i] += change_[i]; });
     ++iterations;

@@ -168,6 +168,7 @@ void IisphSolver::correctVelocities(const SolverContext& c, float dt) {
     error = sum / double(n);
     if (iterations >= kMinIterations && error <= 0.01 * double(params_.maxDensityError)) break;
     if (iterations >= params_.maxIterations) { ++stats_.capHits; break; }
+    if (c.stopRequested()) break;
     std::swap(k_, next_);
     ++iterations;
   }
