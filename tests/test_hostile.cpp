@@ -77,6 +77,21 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 
 std::string runStatus(const fs::path& out) { return nlohmann::json::parse(readText(out / "run.json")).value("status", ""); }
 
+// Sends SIGTERM to a running kurage (started by startKurage) and expects it to stop within 3 s,
+// exit 128 + SIGTERM saying so, run.json "interrupted", no temporary in `out`.
+void expectStoppedBySigterm(pid_t pid, const fs::path& log, const fs::path& out) {
+  const auto signalled = Clock::now();
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_LT(secondsSince(signalled), 3.0) << "the work went on after the signal";
+  ASSERT_TRUE(WIFEXITED(status)) << "killed by the signal, not stopped: " << readText(log);
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << readText(log);
+  EXPECT_TRUE(contains(readText(log), "interrupted by SIGTERM")) << readText(log);
+  EXPECT_EQ(runStatus(out), "interrupted");
+  EXPECT_TRUE(temporariesIn(out).empty());
+}
+
 // ---- 1. nesting depth -------------------------------------------------------------------------
 
 TEST(HostileJson, NestingDeeperThanTheLimitIsRefusedBeforeParsing) {
@@ -283,17 +298,8 @@ TEST(HostileSignals, SigtermDuringTheLastFrameEndsTheRunInterrupted) {
                                       log);
   ASSERT_TRUE(waitForFile(out / "run.json", std::chrono::seconds(60)));
   std::this_thread::sleep_for(std::chrono::milliseconds(500));
-  const auto signalled = Clock::now();
-  ::kill(pid, SIGTERM);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  EXPECT_LT(secondsSince(signalled), 3.0) << "the frame went on after the signal";
+  expectStoppedBySigterm(pid, log, out);
   EXPECT_FALSE(fs::exists(out / "frames/0004.png"));
-  ASSERT_TRUE(WIFEXITED(status)) << "killed by the signal, not stopped: " << readText(log);
-  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << readText(log);
-  EXPECT_TRUE(contains(readText(log), "interrupted by SIGTERM")) << readText(log);
-  EXPECT_EQ(runStatus(out), "interrupted");
-  EXPECT_TRUE(temporariesIn(out).empty());
 }
 
 // A stand-in for ffmpeg that says where it is (its pid in `marker`) and takes a minute.
@@ -394,6 +400,16 @@ TEST(HostileWork, StepCountsAboveTheLimitAreRefusedNamingTheKey) {
   EXPECT_FALSE(fs::exists(dir.path() / "still.png"));
 }
 
+// How advanceTo(t) ended: "stopped" (a whole step's state), "cut short" or "not stopped".
+std::string stopAdvancing(sim::Simulation& simulation, double t) {
+  try {
+    simulation.advanceTo(t);
+  } catch (const sim::Stopped& e) {
+    return e.cutShort() ? "cut short" : "stopped";
+  }
+  return "not stopped";
+}
+
 // Every pressure solver's run ends within one step, or one iteration of its solve, of a stop
 // check turning true: a step count that no check bounds (--force, a step that falls to min_step)
 // still stops. Stopped after a step, the state continues bit for bit.
@@ -412,12 +428,7 @@ TEST(HostileWork, StopChecksEndTheSimulationAfterAStepOrInASolve) {
     sim::Simulation stopped(scene.sim);
     int steps = 0;
     stopped.setStopChecks([&] { return ++steps == 3; });
-    try {
-      stopped.advanceTo(0.25);
-      ADD_FAILURE() << "not stopped";
-    } catch (const sim::Stopped& e) {
-      EXPECT_FALSE(e.cutShort());
-    }
+    EXPECT_EQ(stopAdvancing(stopped, 0.25), "stopped");
     EXPECT_EQ(steps, 3);
     EXPECT_GT(stopped.time(), 0.0);
     EXPECT_LT(stopped.time(), 0.25);
@@ -435,12 +446,7 @@ TEST(HostileWork, StopChecksEndTheSimulationAfterAStepOrInASolve) {
     sim::Simulation cut(scene.sim);
     int asked = 0;
     cut.setStopChecks({}, [&] { return ++asked >= 1; });
-    try {
-      cut.advanceTo(0.25);
-      ADD_FAILURE() << "not stopped";
-    } catch (const sim::Stopped& e) {
-      EXPECT_TRUE(e.cutShort());
-    }
+    EXPECT_EQ(stopAdvancing(cut, 0.25), "cut short");
     EXPECT_EQ(asked, 1);
     EXPECT_LE(cut.time(), double(scene.sim.timeStep.maxStep)) << "more than one step";
   }
@@ -465,17 +471,8 @@ TEST(HostileSignals, SigtermInAFrameThatNeverEndsStopsTheSimulationWithinSeconds
   const pid_t pid = test::startKurage({"sim", fixed.string(), "-o", out.string(), "--threads", "2", "--force"}, log);
   ASSERT_TRUE(waitForFile(out / "particles/0000.vdb", std::chrono::seconds(60))) << readText(log);
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
-  const auto signalled = Clock::now();
-  ::kill(pid, SIGTERM);
-  int status = 0;
-  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
-  EXPECT_LT(secondsSince(signalled), 3.0) << "the frame went on after the signal";
-  ASSERT_TRUE(WIFEXITED(status)) << readText(log);
-  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << readText(log);
-  EXPECT_TRUE(contains(readText(log), "interrupted by SIGTERM")) << readText(log);
-  EXPECT_EQ(runStatus(out), "interrupted");
+  expectStoppedBySigterm(pid, log, out);
   EXPECT_FALSE(fs::exists(out / "particles/0001.vdb"));
-  EXPECT_TRUE(temporariesIn(out).empty());
   // The checkpoint holds the step the signal stopped frame 1 at.
   const Checkpoint c = readCheckpoint(out / "checkpoint.bin", stageHash(loadScene(fixed, {true}), "sim"));
   EXPECT_EQ(c.frame, 0);
