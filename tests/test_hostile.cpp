@@ -78,7 +78,7 @@ double secondsSince(Clock::time_point start) { return std::chrono::duration<doub
 std::string runStatus(const fs::path& out) { return nlohmann::json::parse(readText(out / "run.json")).value("status", ""); }
 
 // Sends SIGTERM to a running kurage (started by startKurage) and expects it to stop within 3 s,
-// exit 128 + SIGTERM saying so, run.json "interrupted", no temporary in `out`.
+// exit 128 + SIGTERM saying so, and, given `out`, run.json "interrupted" and no temporary in it.
 void expectStoppedBySigterm(pid_t pid, const fs::path& log, const fs::path& out) {
   const auto signalled = Clock::now();
   ::kill(pid, SIGTERM);
@@ -88,6 +88,7 @@ void expectStoppedBySigterm(pid_t pid, const fs::path& log, const fs::path& out)
   ASSERT_TRUE(WIFEXITED(status)) << "killed by the signal, not stopped: " << readText(log);
   EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << readText(log);
   EXPECT_TRUE(contains(readText(log), "interrupted by SIGTERM")) << readText(log);
+  if (out.empty()) return;
   EXPECT_EQ(runStatus(out), "interrupted");
   EXPECT_TRUE(temporariesIn(out).empty());
 }
@@ -397,6 +398,13 @@ TEST(HostileWork, StepCountsAboveTheLimitAreRefusedNamingTheKey) {
   EXPECT_EQ(run({"still", kTinyScene.string(), "--time", "1e300", "-o", (dir.path() / "still.png").string()}, log), 2)
       << readText(log);
   EXPECT_TRUE(contains(readText(log), "--time 1e+300: simulating to it takes at least")) << readText(log);
+  EXPECT_FALSE(fs::exists(dir.path() / "still.png"));
+  // Past the limit with --force (2e8 steps), a signal still ends it.
+  const pid_t pid = test::startKurage({"still", kTinyScene.string(), "--time", "1e7", "--force", "-o",
+                                       (dir.path() / "still.png").string(), "--threads", "2"},
+                                      log);
+  std::this_thread::sleep_for(std::chrono::seconds(2));
+  expectStoppedBySigterm(pid, log, {});
   EXPECT_FALSE(fs::exists(dir.path() / "still.png"));
 }
 

@@ -3,6 +3,7 @@
 // (--from OUT: the frame of OUT/particles nearest to T). Surfaces are built as the surface stage
 // does; --spheres shows the particles themselves, coloured by kind, speed or rest-density factor.
 #include "pipeline/commands/cli.h"
+#include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/json_file.h"
 #include "pipeline/io/image_file.h"
@@ -10,6 +11,7 @@
 #include "pipeline/render_scene.h"
 #include "pipeline/scene.h"
 #include "pipeline/sim_frame.h"
+#include "pipeline/stages.h"
 #include "render/surfacing.h"
 #include "sim/simulation.h"
 
@@ -48,6 +50,7 @@ constexpr const char* kHelp =
 
 ParticleFrame simulateTo(const Scene& scene, double time) {
   sim::Simulation simulation(scene.sim);
+  simulation.setStopChecks(interruptPending);
   simulation.advanceTo(time);
   return frameFromSimulation(scene, simulation, 0);
 }
@@ -60,6 +63,9 @@ int commandStill(std::vector<std::string> rawArgs) {
     std::fputs(kHelp, stdout);
     return 0;
   }
+  // SIGINT/SIGTERM end the simulation after a step, the surfacing between passes, the rendering
+  // between pixels: exit 128 + the signal, no image written.
+  installInterruptHandlers();
   const std::optional<double> time = args.doubleOption({"-t", "--time"});
   const std::optional<std::string> output = args.option({"-o", "--output"});
   const std::optional<std::string> from = args.option({"--from"});
@@ -138,19 +144,28 @@ int commandStill(std::vector<std::string> rawArgs) {
 
   ThreadLimit threads(threadCount.value_or(0));
   const auto start = std::chrono::steady_clock::now();
-  const ParticleFrame frame = from ? readParticleFrame(cacheFile) : simulateTo(scene, *time);
   const double frameTime = from ? scene.output.frameTime(cacheFrame) : *time;
   render::RenderStats stats;
   render::Image image;
-  if (scene.render.particles.spheres) {
-    render::RenderScene view = makeRenderScene(scene, frameTime);
-    view.spheres.push_back(particleSpheres(scene, frame));
-    image = render::renderFrame(view, settings, &stats);
-  } else {
-    std::vector<render::CurveSet> curves;
-    if (hasChains(scene)) curves.push_back(chainTubes(scene, frame));  // chains are tubes, not surfaces
-    image = renderSurfaces(scene, surfaceFrame(scene, frame), frameTime, &stats, curves);
+  try {
+    const ParticleFrame frame = from ? readParticleFrame(cacheFile) : simulateTo(scene, *time);
+    render::Renderer renderer;
+    renderer.setStopCheck(interruptPending);
+    if (scene.render.particles.spheres) {
+      render::RenderScene view = makeRenderScene(scene, frameTime);
+      view.spheres.push_back(particleSpheres(scene, frame));
+      image = renderer.render(view, settings, &stats);
+    } else {
+      std::vector<render::CurveSet> curves;
+      if (hasChains(scene)) curves.push_back(chainTubes(scene, frame));  // chains are tubes, not surfaces
+      image = renderSurfaces(scene, surfaceFrame(scene, frame, interruptPending), frameTime, &stats, curves, nullptr,
+                             &renderer);
+    }
+  } catch (...) {
+    throwIfInterrupted();  // whatever a signal cut short was interrupted
+    throw;
   }
+  throwIfInterrupted();
   writePng(image, outFile, settings.transparentBackground, scene.render.bitDepth);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("still: %s (%dx%d, %d spp, t = %g s%s, %.1f s)\n", outFile.string().c_str(), settings.width,
