@@ -189,7 +189,7 @@ struct SceneEstimate {
 };
 inline constexpr double kBytesPerParticle = 600.0;  // simulation arrays and neighbour lists
 // The surface stage's peak memory per leaf of the field: the summed field (2 KB), the level
-// set's leaf and its distances, the container clip (measured: docs/RELIABILITY.md).
+// set's leaf and its distances, the container clip (measured: docs/design/reliability.md).
 inline constexpr double kBytesPerSurfaceLeaf = 12e3;
 // A frame's buffers per pixel: the image, the EXR layers and the denoiser's inputs.
 inline constexpr double kBytesPerPixel = 64.0;

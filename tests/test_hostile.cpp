@@ -1,4 +1,4 @@
-// Hostile inputs and the moments between stages (docs/RELIABILITY.md lists which test proves which
+// Hostile inputs and the moments between stages (docs/design/reliability.md lists which test proves which
 // promise): each test is one class of ways a run failed when probed as a hostile user would,
 // through the library where that is enough and through build/kurage where the promise is the
 // command's (its exit status, what it leaves in OUT).

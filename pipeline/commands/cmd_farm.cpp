@@ -1,6 +1,7 @@
 // kurage farm SCENE -o OUT [...] [--submit] | kurage farm status OUT | kurage farm merge OUT
 // (pipeline/farm/farm.h).
 #include "pipeline/commands/cli.h"
+#include "pipeline/interrupt.h"
 #include "pipeline/farm/farm.h"
 #include "pipeline/stages.h"
 #include "pipeline/io/files.h"
@@ -281,6 +282,7 @@ int farmMerge(ArgParser& args) {
     run["farm"]["jobs"] = readJson(plan.outDir / "farm/jobs.json");
   writeTextAtomic(plan.outDir / "run.json", run.dump(2) + "\n");
   std::printf("run: %s\n", (plan.outDir / "run.json").string().c_str());
+  installInterruptHandlers();  // a signal during the encode ends ffmpeg: exit 128 + the signal
   encodeSceneVideo(scene, plan.outDir, plan.first, plan.last);
   return 0;
 }

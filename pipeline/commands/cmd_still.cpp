@@ -45,7 +45,7 @@ constexpr const char* kHelp =
     "  --16bit              16-bit PNG\n"
     "  --transparent        transparent background (PNG alpha)\n"
     "  --threads N          worker threads (default: all cores)\n"
-    "  --force              past the scene's size limits and the step limit (docs/RELIABILITY.md)\n"
+    "  --force              past the scene's size limits and the step limit (docs/design/reliability.md)\n"
     "  -h, --help           this help\n";
 
 ParticleFrame simulateTo(const Scene& scene, double time) {
