@@ -134,6 +134,13 @@ void validate(const Scene& scene, const std::string& file) {
   }
   if (const std::optional<sim::ParamProblem> problem = sim::pressureSolverProblem(sim.fluid))
     fail(problem->key, problem->message);
+  if (sim.fluid.packing == sim::StartPacking::Relaxed) {
+    sim::FluidParams resolved = sim.fluid;
+    resolved.kernel = sim::resolvedKernel(resolved, box.wallDensity);
+    if (sim::densityKernelOf(resolved) != sim::DensityKernel::CubicSpline)
+      fail("fluid.packing", "'relaxed' needs the cubic-spline density kernel (fluid.kernel \"cubic_spline\"): the "
+                            "paper's poly6 sum has no relaxed packing to start on");
+  }
   if ((box.max - box.min).minCoeff() < h) {
     std::ostringstream s;
     s << "the container is smaller than the support radius h = " << h << " m on some axis (size "

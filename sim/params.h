@@ -54,6 +54,15 @@ enum class InitialState {
                 // lattice compressed to the density its equation of state needs for that pressure)
 };
 
+// Where fluid blocks' particles start, and the lattice the particle mass is calibrated on (ours;
+// sim/packing.h, docs/design/physics.md "The packing").
+enum class StartPacking {
+  Lattice,  // the simple cubic lattice of spacing l; the mass gives a lattice particle rho0
+  Relaxed,  // a relaxed, disordered tile of number density 1 / l^3 in blocks at least a tile's
+            // edge on every axis (thinner blocks on the lattice); the mass gives the tile's mean
+            // particle rho0, so the packing a still column settles into keeps its volume
+};
+
 class SolverParams;  // sim/solvers/pressure_solver.h
 
 // fluid.solver: a pressure solver's name and its own parameters (sim/solvers/<name>/), a value
@@ -124,6 +133,7 @@ struct FluidParams {
   // (4)), "dfsph" (divergence-free SPH, Bender & Koschier 2015/2017), ... (pressureSolverNames()).
   SolverChoice solver;
   InitialState initialState = InitialState::Lattice;
+  StartPacking packing = StartPacking::Lattice;
 
   float supportRadiusMetres() const { return supportRadius * spacing; }
   float speedOfSound() const { return std::sqrt(pressureStiffness); }  // m/s
@@ -146,7 +156,8 @@ struct FluidBlock {
 // A nozzle (the jellyfish's faucets, SPEC §4.3): a disc of `radius` at `position`, facing
 // `direction`, that emits fluid at `speed` from `start` to `end`. Particles are spawned in
 // layers one fluid spacing apart, each layer a sunflower (Vogel) pattern of the disc whose count
-// keeps the emitted volume equal to area x speed x time to within one particle.
+// keeps the emitted volume equal to area x speed x time to within one particle per layer and half
+// a layer in all (the last layer is rounded).
 struct EmitterParams {
   Eigen::Vector3f position{0, 0, 0};   // m, centre of the nozzle disc
   Eigen::Vector3f direction{1, 0, 0};  // outflow direction (normalised on use)

@@ -2,6 +2,7 @@
 
 #include "sim/boundary.h"
 #include "sim/fluid.h"
+#include "sim/packing.h"
 #include "sim/setup.h"
 
 #include <tbb/blocked_range.h>
@@ -110,13 +111,21 @@ Simulation::Simulation(SimParams params)
   solver_ = makePressureSolver(fluid);
   needs_ = solver_->needs();
   grid_.configure(params_.container.min, params_.container.max, fluid.supportRadiusMetres());
-  fluidMass_ = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity,
-                                      solver_->densityKernel());
+  // fluid.packing "relaxed": blocks that hold a tile start on it (sim/packing.h), and the fluid's
+  // mass is calibrated on it (thinner blocks start on the lattice with that mass). The walls'
+  // samples stay on the lattice, with the lattice's calibration.
+  const float latticeMass = calibratedParticleMass(fluid.spacing, fluid.supportRadiusMetres(), fluid.restDensity,
+                                                   solver_->densityKernel());
+  const bool relaxed = fluid.packing == StartPacking::Relaxed;
+  if (relaxed && solver_->densityKernel() != DensityKernel::CubicSpline)
+    throw std::invalid_argument("fluid.packing: 'relaxed' needs the cubic-spline density kernel");
+  const PackingTile tile = relaxed ? relaxedTile(fluid.supportRadius, solver_->densityKernel()) : PackingTile{};
+  fluidMass_ = relaxed ? tileParticleMass(tile, fluid.spacing, fluid.restDensity) : latticeMass;
   if (params_.container.wallDensity == WallDensity::BoundaryParticles)
     boundary_ = std::make_unique<BoundaryParticles>(params_.container, fluid.spacing, fluid.supportRadiusMetres(),
-                                                    fluidMass_ / fluid.restDensity);
+                                                    latticeMass / fluid.restDensity);
   if (params_.container.wallDensity == WallDensity::WallWeight) {
-    wallWeights_ = std::make_unique<WallWeights>(fluid.spacing, fluid.supportRadiusMetres(), fluidMass_,
+    wallWeights_ = std::make_unique<WallWeights>(fluid.spacing, fluid.supportRadiusMetres(), latticeMass,
                                                  solver_->densityKernel());
     wallSums_.weights = wallWeights_.get();
   }
@@ -128,16 +137,20 @@ Simulation::Simulation(SimParams params)
   }
   std::vector<std::vector<Eigen::Vector3f>> blockPoints;
   size_t expected = 0;
+  std::vector<bool> tiled;
   for (const FluidBlock& block : params_.fluidBlocks) {
-    blockPoints.push_back(latticePoints(block, fluid.spacing));
+    tiled.push_back(relaxed && holdsTile(block, fluid.spacing, fluid.supportRadius));
+    blockPoints.push_back(tiled.back() ? tiledPoints(block, fluid.spacing, tile) : latticePoints(block, fluid.spacing));
     expected += blockPoints.back().size();
   }
-  // Free surface of each block: its top lattice layer plus half a spacing (before any compression).
+  // Free surface of each block: its top lattice layer plus half a spacing (before any compression);
+  // a tiled block's top (its points fill it to the top, the highest within a spacing of it).
   std::vector<float> tops;
-  for (const auto& points : blockPoints) {
+  for (size_t b = 0; b < blockPoints.size(); ++b) {
     float top = -std::numeric_limits<float>::infinity();
-    for (const Eigen::Vector3f& q : points) top = std::max(top, q.z());
-    tops.push_back(top + 0.5f * fluid.spacing);
+    for (const Eigen::Vector3f& q : blockPoints[b]) top = std::max(top, q.z());
+    tops.push_back(tiled[b] ? std::min(top + 0.5f * fluid.spacing, params_.fluidBlocks[b].max.z())
+                            : top + 0.5f * fluid.spacing);
   }
   const float g = -params_.gravity.z();
   const bool hydrostatic = fluid.initialState == InitialState::Hydrostatic && g > 0.0f;

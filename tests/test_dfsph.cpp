@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <ostream>
 #include <numbers>
 
@@ -262,6 +263,54 @@ TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
     EXPECT_LT(worst, 0.01 * start) << solver;  // measured 0.033 m (dfsph), 0.062 m (wcsph)
   }
 }
+
+// The still tank's volume over 30 s (fluid.packing, sim/packing.h): the jellyfish scene's water
+// (DFSPH calm and corrected, boundary particles, hydrostatic start). On the simple cubic lattice
+// the column rearranges into a denser packing and its free surface sinks; started on the relaxed
+// packing, with the mass calibrated on it, the free surface (HydrostaticTrack::freeSurface, the
+// interior's water per floor area) over the last 5 s stays within 0.05 m of where it started
+// (0.25 % of the 20 m). The lattice start's drift is printed at 1 m, not asserted.
+class StillTankVolume : public ::testing::TestWithParam<float> {};
+
+namespace {
+// |mean free surface over 25-30 s - free surface at t = 0|, m.
+double thirtySecondDrift(SimParams p) {
+  p.fluid.gradientCorrection = true;
+  p.fluid.solver.as<DfsphParams>().divergenceSolve = DivergenceSolve::ConjugateGradient;
+  p.fluid.solver.as<DfsphParams>().maxDivergenceError = 0.01f;
+  Simulation sim(p);
+  const kurage::pipeline::HydrostaticTrack track(sim.params(), 20.0);
+  const double start = track.freeSurface(sim.particles());
+  double sum = 0.0;
+  int count = 0;
+  for (int k = 1; k <= 60; ++k) {
+    sim.advanceTo(0.5 * k);
+    if (k > 50) {
+      sum += track.freeSurface(sim.particles());
+      ++count;
+    }
+  }
+  const double drift = std::fabs(sum / count - start);
+  std::printf("l = %g m, packing %s: free surface %.4f m at t = 0, %.4f m over 25-30 s\n", p.fluid.spacing,
+              p.fluid.packing == StartPacking::Relaxed ? "relaxed" : "lattice", start, sum / count);
+  return drift;
+}
+}  // namespace
+
+TEST_P(StillTankVolume, TheRelaxedPackingKeepsTheSurfaceForThirtySeconds) {
+  const float spacing = GetParam();
+  SimParams p = jellyfishTank("dfsph", spacing);
+  p.fluid.packing = StartPacking::Relaxed;
+  EXPECT_LT(thirtySecondDrift(p), 0.05);
+  if (spacing == 1.0f) {
+    p.fluid.packing = StartPacking::Lattice;
+    std::printf("the lattice start drifts %.3f m\n", thirtySecondDrift(p));
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Spacings, StillTankVolume, ::testing::Values(1.0f, 0.5f), [](const auto& info) {
+  return std::string(info.param < 1.0f ? "half_metre" : "one_metre");
+});
 
 // A caller's rounding can leave a sliver before the time it asks for. A study sampling every
 // 0.01 s as a float stops at 4.9999999 s and is then asked for 5 s. Under DFSPH a step of 0.07 us

@@ -1,6 +1,7 @@
 // The SPH fluid of SPEC §1 (sim/): mass calibration, symmetric pressure, walls, exact frame
 // times, determinism and independence of simulations.
 #include "sim/fluid.h"
+#include "sim/packing.h"
 #include "sim/simulation.h"
 
 #include <gtest/gtest.h>
@@ -228,4 +229,67 @@ TEST(DensityPass, CubicSplineMatchesBruteForceAlsoPastTheStackBuffer) {
     pastStack += within.size() > 1024 ? 1 : 0;
   }
   EXPECT_GE(pastStack, 1000u) << "the clump's particles have more candidates than the stack buffer";
+}
+
+// The relaxed packing (fluid.packing "relaxed", sim/packing.h): the tile is a glass whose kernel
+// sum lies below the simple cubic lattice's (0.1-1 %: the volume a lattice start loses as it
+// rearranges), the same on every call, its points inside it; tiled over a block it holds the
+// block's volume in particles of l^3 (to within its part-filled border), and the mass calibrated
+// on it gives the tile's mean particle rho0.
+TEST(RelaxedPacking, TheTileIsADeterministicGlassBelowTheLatticesKernelSum) {
+  const PackingTile tile = relaxedTile(2.0f, DensityKernel::CubicSpline);
+  ASSERT_EQ(tile.cells, 8);
+  ASSERT_EQ(tile.points.size(), size_t(8 * 8 * 8));
+  for (const Eigen::Vector3f& q : tile.points) {
+    ASSERT_TRUE((q.array() >= 0.0f).all() && (q.array() < 8.0f).all());
+  }
+  const double lowered = 1.0 - tile.kernelSum / tile.latticeKernelSum;
+  EXPECT_GT(lowered, 0.001);
+  EXPECT_LT(lowered, 0.01);
+  const PackingTile again = relaxedTile(2.0f, DensityKernel::CubicSpline);
+  EXPECT_EQ(std::memcmp(again.points.data(), tile.points.data(), tile.points.size() * sizeof(Eigen::Vector3f)), 0);
+  // A 10 x 9 x 8 m block at l = 0.5: 5760 lattice points; the tiled block holds as many within 1 %.
+  const FluidBlock block{Eigen::Vector3f(1, 2, 3), Eigen::Vector3f(11, 11, 11)};
+  ASSERT_TRUE(holdsTile(block, 0.5f, 2.0f));
+  EXPECT_FALSE(holdsTile({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(10, 10, 3.5f)}, 0.5f, 2.0f)) << "a slab";
+  const std::vector<Eigen::Vector3f> points = tiledPoints(block, 0.5f, tile);
+  EXPECT_NEAR(double(points.size()), 5760.0, 57.6);
+  for (const Eigen::Vector3f& q : points) {
+    ASSERT_TRUE((q.array() >= block.min.array()).all() && (q.array() < block.max.array()).all());
+  }
+  const float mass = tileParticleMass(tile, 0.5f, 1000.0f);
+  EXPECT_NEAR(double(mass) * tile.kernelSum / 0.125, 1000.0, 1e-3);
+  EXPECT_GT(mass, calibratedParticleMass(0.5f, 1.0f, 1000.0f, DensityKernel::CubicSpline));
+}
+
+// The simulation starts a block that holds a tile on it, and one thinner than the tile on the
+// lattice, both with the tile's mass; the paper's poly6 density sum refuses it.
+TEST(RelaxedPacking, SimulationStartsBlocksOnTheTileAndRefusesPoly6) {
+  SimParams p;
+  p.fluid.spacing = 0.5f;
+  p.fluid.supportRadius = 2.0f;
+  p.fluid.solver = "dfsph";
+  p.fluid.packing = StartPacking::Relaxed;
+  p.container.max = Eigen::Vector3f(10, 10, 10);
+  p.fluidBlocks.push_back({Eigen::Vector3f(0, 0, 0), Eigen::Vector3f(5, 5, 5)});
+  p.fluidBlocks.push_back({Eigen::Vector3f(6, 6, 0), Eigen::Vector3f(10, 10, 1)});
+  const Simulation sim(p);
+  const PackingTile tile = relaxedTile(2.0f, DensityKernel::CubicSpline);
+  EXPECT_FLOAT_EQ(sim.fluidParticleMass(), tileParticleMass(tile, 0.5f, 1000.0f));
+  size_t offLattice = 0, slab = 0;
+  const ParticleSet& s = sim.particles();
+  for (size_t i = 0; i < s.size(); ++i) {
+    if (s.x[i] >= 6.0f) {
+      ++slab;
+      continue;
+    }
+    const float fx = s.x[i] / 0.5f - std::floor(s.x[i] / 0.5f);
+    offLattice += std::fabs(fx - 0.5f) > 1e-3f;
+  }
+  EXPECT_EQ(slab, size_t(8 * 8 * 2)) << "the slab on the lattice";
+  EXPECT_GT(offLattice, (s.size() - slab) / 2) << "the block on the tile";
+  SimParams wcsph = p;
+  wcsph.fluid.solver = "wcsph";
+  wcsph.fluid.kernel = SphKernel::Mueller2003;
+  EXPECT_THROW(Simulation{wcsph}, std::invalid_argument);
 }

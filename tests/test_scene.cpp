@@ -90,6 +90,10 @@ const BadScene kBadScenes[] = {
      }, "fluid.relaxation", "must be <= 1, got 1.5"},
     {"UnknownCoupling", [](json& s) { addBox(s)["coupling"] = "glued"; }, "bodies[0].coupling",
      "must be one of \"solved\", \"boundary\", got \"glued\""},
+    {"RelaxedPackingWithThePapersKernels", [](json& s) { s["fluid"]["packing"] = "relaxed"; }, "fluid.packing",
+     "'relaxed' needs the cubic-spline density kernel"},
+    {"UnknownPacking", [](json& s) { s["fluid"]["packing"] = "hexagonal"; }, "fluid.packing",
+     "must be one of \"lattice\", \"relaxed\", got \"hexagonal\""},
     {"UnknownKernel", [](json& s) { s["fluid"]["kernel"] = "wendland"; }, "fluid.kernel",
      "must be one of \"auto\", \"mueller2003\", \"cubic_spline\", got \"wendland\""},
     {"BoundaryParticlesThinContainer", [](json& s) {
