@@ -122,6 +122,8 @@ void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation
                           {"step_phases_run", phasesRun},
                           {"step_phases", phaseTimes},
                           {"solver", solver}});
+  if (nlohmann::json pours = track.pourSummary(simulation); !pours.is_null())
+    record.data()["stages"]["sim"]["pours"] = std::move(pours);
   if (const sim::BodySystem* bodies = simulation.bodies()) {
     nlohmann::json list = nlohmann::json::array();
     for (size_t b = 0; b < scene.sim.bodies.size(); ++b)

@@ -49,9 +49,10 @@ struct SimStageRun {
   int checkpointEvery = 0;           // frames between checkpoints (0: only the last and on a signal)
 };
 
-// The sim stage's entries: stages.sim (steps, bounds, step stages, the solver), derived, and
-// stages.sim.bodies with each shell's summary from `track`. Warns on stderr where body particles
-// were left out of the pressure solves or a solve stopped at its iteration cap. The caller saves.
+// The sim stage's entries: stages.sim (steps, bounds, step stages, the solver), derived,
+// stages.sim.bodies with each shell's summary and stages.sim.pours with the emitters' account,
+// both from `track`. Warns on stderr where body particles were left out of the pressure solves or
+// a solve stopped at its iteration cap. The caller saves.
 void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation& simulation, const BodyTrack& track,
                     const SimStageRun& run);
 

@@ -40,9 +40,12 @@ size_t Emitter::emit(double t, float dt, ParticleSet& particles, float mass, flo
   const double l = spacing_;
   const double area = std::numbers::pi * params_.radius * params_.radius;
   travelled_ += params_.speed * open;
+  // The nozzle closes during this step: the last layer, if more than half of it has left, goes too
+  // (so the layers' count is speed x time / l rounded, not cut).
+  const bool closing = t >= double(params_.end) && t - dt < double(params_.end);
   size_t spawned = 0;
-  while (travelled_ >= l) {
-    travelled_ -= l;
+  while (travelled_ >= l || (closing && travelled_ >= 0.5 * l)) {
+    travelled_ = std::max(travelled_ - l, 0.0);
     // This layer left the nozzle plane `travelled_` ago (in distance): place it there.
     const Eigen::Vector3f centre = params_.position + float(travelled_) * direction_;
     emittedTarget_ += area * l / (l * l * l);  // one layer carries area x l of fluid

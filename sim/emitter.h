@@ -21,12 +21,14 @@ public:
 
   // Called after a step from t - dt to t: spawns the layers that left the nozzle during the step
   // (particles of the given mass and rest density, kind 0, ids from nextId), skipping positions
-  // closer than half a spacing to an existing particle. Returns the number spawned.
+  // closer than half a spacing to an existing particle; in the step the nozzle closes, a last
+  // layer more than half out goes too. Returns the number spawned.
   size_t emit(double t, float dt, ParticleSet& particles, float mass, float restDensity, int64_t& nextId);
 
   // Particles this emitter will spawn over its whole life, for reserving storage.
   size_t expectedTotal() const;
   size_t blocked() const { return blocked_; }
+  size_t spawned() const { return emitted_ - blocked_; }  // particles it has added
   // What it carries from step to step, for checkpoints.
   void saveState(StateWriter& out) const;
   void restoreState(StateReader& in);

@@ -89,6 +89,7 @@ public:
   ParticleSet& particles() { return particles_; }
   double time() const { return time_; }
   const SimStats& stats() const { return stats_; }
+  const std::vector<Emitter>& emitters() const { return emitters_; }
   float fluidParticleMass() const { return fluidMass_; }
   // The telescopic bodies, or null for a scene without bodies.
   const BodySystem* bodies() const { return bodies_.get(); }

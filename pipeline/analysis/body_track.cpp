@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 
 namespace kurage::pipeline {
@@ -31,6 +32,7 @@ std::string BodyTrack::saveState() const {
   for (const Row& r : rows_) {
     out.value(r.time);
     out.value(r.surface);
+    out.value(r.level);
     std::vector<double> centres;
     for (const Eigen::Vector3d& c : r.centres) centres.insert(centres.end(), {c.x(), c.y(), c.z()});
     out.array(centres);
@@ -60,6 +62,7 @@ void BodyTrack::restoreState(const std::string& bytes) {
   for (Row& r : rows) {
     r.time = in.value<double>();
     r.surface = in.value<double>();
+    r.level = in.value<double>();
     std::vector<double> centres;
     in.arrayOf(centres, 3 * bodies);
     for (size_t b = 0; b < bodies; ++b) r.centres.emplace_back(centres[3 * b], centres[3 * b + 1], centres[3 * b + 2]);
@@ -78,7 +81,7 @@ void BodyTrack::restoreState(const std::string& bytes) {
 }
 
 void BodyTrack::record(const sim::Simulation& simulation) {
-  if (params_.bodies.empty()) return;
+  if (params_.bodies.empty() && params_.emitters.empty()) return;
   const sim::ParticleSet& p = simulation.particles();
   const size_t bodies = params_.bodies.size();
   std::vector<Eigen::Vector3d> centre(bodies, Eigen::Vector3d::Zero());
@@ -103,6 +106,7 @@ void BodyTrack::record(const sim::Simulation& simulation) {
     std::nth_element(fluidZ.begin(), fluidZ.begin() + long(k), fluidZ.end());
     row.surface = fluidZ[k];
   }
+  if (!params_.emitters.empty()) row.level = waterLevel(params_, p);
   for (size_t b = 0; b < bodies; ++b) {
     row.centres.push_back(mass[b] > 0 ? Eigen::Vector3d(centre[b] / mass[b]) : Eigen::Vector3d::Zero());
     row.factors.push_back(count[b] > 0 ? factor[b] / count[b] : 1.0);
@@ -145,6 +149,67 @@ nlohmann::json BodyTrack::shellSummary(size_t body) const {
                             {"apex_height_at_rest_m", rows_.front().apexes[k]}};
   if (nlohmann::json swim = swimSummary(body, k); !swim.is_null()) summary["swim"] = std::move(swim);
   return summary;
+}
+
+nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
+  const std::vector<sim::Emitter>& emitters = simulation.emitters();
+  if (emitters.empty() || rows_.empty()) return nullptr;
+  // The last row at or before t (the first row when none).
+  auto rowBefore = [&](double t) {
+    auto it = std::upper_bound(rows_.begin(), rows_.end(), t + 1e-9, [](double v, const Row& r) { return v < r.time; });
+    return it == rows_.begin() ? rows_.begin() : std::prev(it);
+  };
+  const double last = rows_.back().time;
+  const sim::ContainerParams& box = params_.container;
+  const double floorArea = double(box.max.x() - box.min.x()) * double(box.max.y() - box.min.y());
+  const double particleVolume = double(simulation.fluidParticleMass()) / double(params_.fluid.restDensity);
+  nlohmann::json pours = nlohmann::json::array();
+  for (size_t e = 0; e < emitters.size(); ++e) {
+    const sim::EmitterParams& q = params_.emitters[e];
+    const double start = q.start, end = std::min(double(q.end), last);
+    // Settled: the last row before the next pour that starts after this one ends, or the run's end.
+    double settled = last;
+    for (const sim::EmitterParams& o : params_.emitters)
+      if (o.start >= q.end && o.start < settled + 1e-9) settled = std::max(double(o.start) - 1e-6, end);
+    const double nozzle = std::numbers::pi * double(q.radius) * double(q.radius) * double(q.speed) * std::max(end - start, 0.0);
+    const double emitted = double(emitters[e].spawned()) * particleVolume;
+    const Row& before = *rowBefore(start);
+    const Row& after = *rowBefore(settled);
+    const double rise = after.level - before.level, expected = emitted / floorArea;
+    nlohmann::json pour = {{"start_s", start},
+                           {"end_s", end},
+                           {"particles", emitters[e].spawned()},
+                           {"blocked_positions", emitters[e].blocked()},
+                           {"nozzle_volume_m3", nozzle},
+                           {"emitted_volume_m3", emitted},
+                           {"emitted_over_nozzle", nozzle > 0.0 ? emitted / nozzle : 0.0},
+                           {"level_before_m", before.level},
+                           {"level_settled_m", after.level},
+                           {"settled_at_s", after.time},
+                           {"level_rise_m", rise},
+                           {"expected_rise_m", expected},
+                           {"rise_over_expected", expected > 0.0 ? rise / expected : 0.0}};
+    const Row& to = *rowBefore(end);
+    nlohmann::json drifts = nlohmann::json::array();
+    for (size_t b = 0; b < params_.bodies.size(); ++b) {
+      if (params_.bodies[b].shape != sim::BodyShape::Shell) continue;
+      const Eigen::Vector2d drift = (to.centres[b] - before.centres[b]).head<2>();
+      const Eigen::Vector2d away = (before.centres[b] - q.position.cast<double>()).head<2>();
+      drifts.push_back({{"body", params_.bodies[b].name},
+                        {"drift_x_m", drift.x()},
+                        {"drift_y_m", drift.y()},
+                        {"away_from_nozzle", drift.dot(away) > 0.0}});
+    }
+    if (!drifts.empty()) pour["drift"] = std::move(drifts);
+    pours.push_back(std::move(pour));
+  }
+  return {{"pours", pours},
+          {"floor_area_m2", floorArea},
+          {"particle_volume_m3", particleVolume},
+          {"note", "per emitter: its particles' volume at rest density against nozzle area x speed x open time; the "
+                   "water's level (the free surface of the colour field over the whole floor) from the pour's start to the last "
+                   "frame before the next pour (or the run's end) against the emitted volume over the floor area; "
+                   "each shell's horizontal drift over the pour"}};
 }
 
 nlohmann::json BodyTrack::swimSummary(size_t body, size_t k) const {

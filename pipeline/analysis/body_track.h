@@ -4,11 +4,14 @@
 // bell, pipeline/analysis/shell_wall.h) its margin radius, the fluid particles inside its wall,
 // its tilt, apex height and diameter. The sim stage records after every frame and writes
 // OUT/bodies.csv, and OUT/bodies.png where the scene has muscles (the muscles' force and each
-// body's depth against time, the paper's Fig. 3); run.json gets each shell's summary. Metres,
-// seconds, newtons, degrees.
+// body's depth against time, the paper's Fig. 3); run.json gets each shell's summary.
+// In a scene with emitters each row holds the water's level too (waterLevel,
+// pipeline/analysis/still_tank.h: the water's volume per floor area, read where it ends), and
+// run.json gets each pour's account (pourSummary). Metres, seconds, newtons, degrees.
 #pragma once
 
 #include "pipeline/analysis/shell_wall.h"
+#include "pipeline/analysis/still_tank.h"
 #include "sim/params.h"
 
 #include <Eigen/Core>
@@ -34,7 +37,7 @@ public:
 
   // The shells as built: call with the simulation at t = 0, before any record.
   void start(const sim::Simulation& simulation);
-  // One row at the simulation's time (nothing for a scene without bodies).
+  // One row at the simulation's time (nothing for a scene without bodies or emitters).
   void record(const sim::Simulation& simulation);
 
   // The rows so far, for checkpoints (pipeline/io/checkpoint.h).
@@ -46,6 +49,17 @@ public:
   // the most fluid particles found inside the wall in a frame (ShellWall::fluidInsideWall);
   // null for another body.
   nlohmann::json shellSummary(size_t body) const;
+
+  // Per emitter, for run.json: its pour against the nozzle's flow and the level's settled rise.
+  // - nozzle_volume_m3 = pi r^2 v (min(end, t_run) - start); emitted_volume_m3 = its particles
+  //   times m / rho0 (the water they make at rest density);
+  // - the level's rise from the last row at or before the pour's start to the last row before the
+  //   next pour starts (or the run's end), against emitted_volume / container floor area (a pour
+  //   that overlaps another, or ends too near the next, counts the other's water too);
+  // - each shell body's horizontal drift over the pour (start to end) and whether it is away from
+  //   the nozzle (drift . (centre - nozzle) > 0, horizontally, at the start).
+  // Null without emitters or rows.
+  nlohmann::json pourSummary(const sim::Simulation& simulation) const;
 
   // OUT/bodies.csv, and OUT/bodies.png (with .svg, .pdf, .gp) when the scene has muscles.
   void write(const std::filesystem::path& outDir) const;
@@ -61,6 +75,7 @@ private:
   struct Row {
     double time = 0.0;
     double surface = 0.0;
+    double level = 0.0;  // the water's level (scenes with emitters; 0 otherwise)
     std::vector<Eigen::Vector3d> centres;
     std::vector<double> factors;
     std::vector<double> forces;

@@ -47,32 +47,48 @@ double HydrostaticTrack::freeSurface(const sim::ParticleSet& p) const {
   return surfaceOf(column);
 }
 
-double HydrostaticTrack::surfaceOf(const std::vector<std::pair<float, float>>& column) const {
-  // The level where the interior's colour field, averaged over its floor area, is one half:
-  // c(z) = sum_j V_j Wbar(z - z_j) / area over the interior particles, V_j = m_j / rho0, Wbar
-  // the cubic spline (support h) integrated over a horizontal plane (header).
-  if (column.empty() || !(area_ > 0.0)) return 0.0;
-  const double perMass = 1.0 / (rho0_ * area_);
+namespace {
+// The level where the colour field of `column` (heights above the floor and masses, sorted),
+// averaged over `area`, is one half: c(z) = sum_j V_j Wbar(z - z_j) / area, V_j = m_j / rho0,
+// Wbar the cubic spline (support h) integrated over a horizontal plane (header).
+double colourLevel(const std::vector<std::pair<float, float>>& column, double area, double rho0, double h, double l) {
+  if (column.empty() || !(area > 0.0)) return 0.0;
+  const double perMass = 1.0 / (rho0 * area);
   const auto colour = [&](double z) {
     double c = 0.0;
-    for (auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(float(z - h_), -1.0f));
-         it != column.end() && it->first < z + h_; ++it)
-      c += it->second * projectedCubicSpline(z - it->first, h_);
+    for (auto it = std::lower_bound(column.begin(), column.end(), std::make_pair(float(z - h), -1.0f));
+         it != column.end() && it->first < z + h; ++it)
+      c += it->second * projectedCubicSpline(z - it->first, h);
     return c * perMass;
   };
   // Down from above the highest particle, where the field vanishes, in steps of a quarter
   // spacing to the first height where it reaches one half; then bisection.
-  double above = column.back().first + h_, below = above;
+  double above = column.back().first + h, below = above;
   while (colour(below) < 0.5) {
     above = below;
-    below -= 0.25 * l_;
-    if (below < -h_) return 0.0;
+    below -= 0.25 * l;
+    if (below < -h) return 0.0;
   }
-  for (int k = 0; k < 50 && above - below > 1e-9 * l_; ++k) {
+  for (int k = 0; k < 50 && above - below > 1e-9 * l; ++k) {
     const double mid = 0.5 * (above + below);
     (colour(mid) < 0.5 ? above : below) = mid;
   }
   return 0.5 * (above + below);
+}
+}  // namespace
+
+double HydrostaticTrack::surfaceOf(const std::vector<std::pair<float, float>>& column) const {
+  return colourLevel(column, area_, rho0_, h_, l_);
+}
+
+double waterLevel(const sim::SimParams& params, const sim::ParticleSet& p) {
+  std::vector<std::pair<float, float>> column;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == 0) column.emplace_back(p.z[i] - params.container.min.z(), p.mass[i]);
+  std::sort(column.begin(), column.end());
+  const Eigen::Vector3f size = params.container.max - params.container.min;
+  return colourLevel(column, double(size.x()) * double(size.y()), params.fluid.restDensity,
+                     params.fluid.supportRadiusMetres(), params.fluid.spacing);
 }
 
 void HydrostaticTrack::record(const sim::ParticleSet& p) {

@@ -90,4 +90,9 @@ private:
   double weightAbove(float z) const;
 };
 
+// The water's level: the free surface as HydrostaticTrack reads it, of every fluid particle over
+// the container's whole floor (the water's volume per floor area, read where it ends; what a pour
+// raises by its volume over the floor area), m above the container's floor.
+double waterLevel(const sim::SimParams& params, const sim::ParticleSet& particles);
+
 }  // namespace kurage::pipeline
