@@ -159,6 +159,19 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     auto it = std::upper_bound(rows_.begin(), rows_.end(), t + 1e-9, [](double v, const Row& r) { return v < r.time; });
     return it == rows_.begin() ? rows_.begin() : std::prev(it);
   };
+  // The level's mean over the rows in [t - kLevelWindow, t] (waves and a swimming body's
+  // breathing move a single frame's).
+  constexpr double kLevelWindow = 3.0;  // s
+  auto meanLevel = [&](double t) {
+    double sum = 0.0;
+    int count = 0;
+    for (auto it = rowBefore(t); it->time >= t - kLevelWindow - 1e-9; --it) {
+      sum += it->level;
+      ++count;
+      if (it == rows_.begin()) break;
+    }
+    return sum / count;
+  };
   const double last = rows_.back().time;
   const sim::ContainerParams& box = params_.container;
   const double floorArea = double(box.max.x() - box.min.x()) * double(box.max.y() - box.min.y());
@@ -175,7 +188,8 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     const double emitted = double(emitters[e].spawned()) * particleVolume;
     const Row& before = *rowBefore(start);
     const Row& after = *rowBefore(settled);
-    const double rise = after.level - before.level, expected = emitted / floorArea;
+    const double levelBefore = meanLevel(start), levelSettled = meanLevel(settled);
+    const double rise = levelSettled - levelBefore, expected = emitted / floorArea;
     nlohmann::json pour = {{"start_s", start},
                            {"end_s", end},
                            {"particles", emitters[e].spawned()},
@@ -183,8 +197,8 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
                            {"nozzle_volume_m3", nozzle},
                            {"emitted_volume_m3", emitted},
                            {"emitted_over_nozzle", nozzle > 0.0 ? emitted / nozzle : 0.0},
-                           {"level_before_m", before.level},
-                           {"level_settled_m", after.level},
+                           {"level_before_m", levelBefore},
+                           {"level_settled_m", levelSettled},
                            {"settled_at_s", after.time},
                            {"level_rise_m", rise},
                            {"expected_rise_m", expected},

@@ -53,8 +53,9 @@ public:
   // Per emitter, for run.json: its pour against the nozzle's flow and the level's settled rise.
   // - nozzle_volume_m3 = pi r^2 v (min(end, t_run) - start); emitted_volume_m3 = its particles
   //   times m / rho0 (the water they make at rest density);
-  // - the level's rise from the last row at or before the pour's start to the last row before the
-  //   next pour starts (or the run's end), against emitted_volume / container floor area (a pour
+  // - the level's rise (its mean over the 3 s before each end: waves and a swimming body's
+  //   breathing move one frame's by 0.1 m in scenes/jellyfish.json) from the pour's start to the
+  //   last row before the next pour starts (or the run's end), against emitted_volume / container floor area (a pour
   //   that overlaps another, or ends too near the next, counts the other's water too);
   // - each shell body's horizontal drift over the pour (start to end) and whether it is away from
   //   the nozzle (drift . (centre - nozzle) > 0, horizontally, at the start).
