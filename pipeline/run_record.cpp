@@ -54,8 +54,9 @@ void RunRecord::save() const { writeTextAtomic(path_, data_.dump(2) + "\n"); }
 
 namespace {
 // The solver's own report (sim::SolverReport) into run.json's `out`, each '.' in a key a nested
-// object, and its warnings on stderr.
-void addSolverReport(nlohmann::json& out, const sim::PressureSolver& solver) {
+// object, and its warnings through `warn(message, key)`.
+template <class Warn>
+void addSolverReport(nlohmann::json& out, const sim::PressureSolver& solver, const Warn& warn) {
   sim::SolverReport report;
   solver.report(report);
   for (const auto& [key, value] : report.entries) {
@@ -64,8 +65,7 @@ void addSolverReport(nlohmann::json& out, const sim::PressureSolver& solver) {
     std::visit([&](const auto& v) { out[nlohmann::json::json_pointer(pointer)] = v; }, value);
   }
   for (const sim::SolverWarning& w : solver.warnings())
-    std::cerr << "kurage: warning: " << w.message << "; see run.json stages.sim.solver"
-              << (w.reportKey.empty() ? "" : "." + w.reportKey) << "\n";
+    warn(w.message, "stages.sim.solver" + (w.reportKey.empty() ? "" : "." + w.reportKey));
 }
 }  // namespace
 
@@ -87,13 +87,19 @@ void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation
                           {"share", stepSeconds > 0.0 ? stats.phaseSeconds[s] / stepSeconds : 0.0},
                           {"calls", stats.phaseCalls[s]}};
     }
+  // What the user should know, printed and kept in stages.sim.warnings (the report shows them).
+  nlohmann::json warnings = nlohmann::json::array();
+  const auto warn = [&warnings](const std::string& message, const std::string& key) {
+    std::cerr << "kurage: warning: " << message << "; see run.json " << key << "\n";
+    warnings.push_back({{"message", message}, {"key", key}});
+  };
   nlohmann::json solver = {
       {"name", scene.sim.fluid.solver.name()},
       {"mean_density_error", stats.steps ? stats.densityErrorSum / double(stats.steps) : 0.0},
       {"max_density_error", stats.densityErrorMax},
       {"density_error_note", "compression measured by each step's density pass: mean over fluid particles of "
                              "max(rho - rho0, 0) / rho0; the run's mean and largest (fractions)"}};
-  addSolverReport(solver, simulation.solver());
+  addSolverReport(solver, simulation.solver(), warn);
   if (const sim::BoundaryParticles* bp = simulation.boundaryParticles()) solver["boundary_particles"] = bp->size();
   // fluid.kernel as run ("auto" resolved)
   solver["kernel"] = simulation.params().fluid.kernel == sim::SphKernel::CubicSpline ? "cubic_spline" : "mueller2003";
@@ -136,6 +142,11 @@ void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation
       if (nlohmann::json shell = track.shellSummary(b); !shell.is_null()) list.back()["shell"] = std::move(shell);
     }
     const sim::BodyStats& bs = bodies->stats();
+    if (bs.capHits)
+      warn("the bodies' collision loop stopped at its cap (collisions.max_passes " +
+               std::to_string(scene.sim.collisions.maxPasses) + ") with collisions left in " +
+               std::to_string(bs.capHits) + " of " + std::to_string(stats.steps) + " steps",
+           "stages.sim.bodies.collision_cap_hits");
     record.data()["stages"]["sim"]["bodies"] = {
         {"bodies", list},
         {"body_particles", bodies->particleCount()},
@@ -147,6 +158,7 @@ void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation
         {"collisions_resolved", bs.collisionsResolved},
         {"most_collision_passes_in_a_step", bs.mostPasses}};
   }
+  record.data()["stages"]["sim"]["warnings"] = std::move(warnings);
 }
 
 }  // namespace kurage::pipeline

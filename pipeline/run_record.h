@@ -49,10 +49,11 @@ struct SimStageRun {
   int checkpointEvery = 0;           // frames between checkpoints (0: only the last and on a signal)
 };
 
-// The sim stage's entries: stages.sim (steps, bounds, step stages, the solver), derived,
+// The sim stage's entries: stages.sim (steps, bounds, step phases, the solver), derived,
 // stages.sim.bodies with each shell's summary and stages.sim.pours with the emitters' account,
-// both from `track`. Warns on stderr where body particles were left out of the pressure solves or
-// a solve stopped at its iteration cap. The caller saves.
+// both from `track`. Where body particles were left out of the pressure solves, or a solve or the
+// bodies' collision loop stopped at its cap, it warns on stderr and lists the warning in
+// stages.sim.warnings ({message, key}: the entry with the figures). The caller saves.
 void recordSimStage(RunRecord& record, const Scene& scene, const sim::Simulation& simulation, const BodyTrack& track,
                     const SimStageRun& run);
 

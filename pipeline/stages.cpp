@@ -1,6 +1,7 @@
 #include "pipeline/stages.h"
 
 #include "pipeline/analysis/body_track.h"
+#include "pipeline/analysis/sim_series.h"
 #include "pipeline/exports.h"
 #include "pipeline/interrupt.h"
 #include "pipeline/io/checkpoint.h"
@@ -66,12 +67,30 @@ std::pair<int, int> frameRange(const Scene& scene, const StageOptions& options) 
 
 namespace {
 
+// The sim stage's own part of a checkpoint: the body records and the frame records.
+std::string stageState(const BodyTrack& track, const SimSeries& series) {
+  sim::StateWriter out;
+  for (const std::string& part : {track.saveState(), series.saveState()})
+    out.array(std::vector<char>(part.begin(), part.end()));
+  return out.take();
+}
+
+void restoreStageState(const std::string& bytes, BodyTrack& track, SimSeries& series) {
+  sim::StateReader in(bytes);
+  std::vector<char> part;
+  in.array(part, bytes.size());
+  track.restoreState(std::string(part.begin(), part.end()));
+  in.array(part, bytes.size());
+  series.restoreState(std::string(part.begin(), part.end()));
+  if (!in.done()) throw sim::StateError("checkpoint state: bytes left over after the stage's records");
+}
+
 // --resume: restores the simulation and the body records from OUT/checkpoint.bin and returns the
 // frame it holds, or -1 (start at t = 0, saying why) when there is none, it lies past the frames
 // asked for, or a cache it covers is missing or damaged. A damaged checkpoint, or one of other
 // scene parameters or another kurage, is an error naming the file.
 int resumeSimulation(const Scene& scene, const StageOptions& options, const std::string& simHash,
-                     sim::Simulation& simulation, BodyTrack& track) {
+                     sim::Simulation& simulation, BodyTrack& track, SimSeries& series) {
   const fs::path file = checkpointFile(options.outDir);
   if (!fs::exists(file)) {
     std::printf("sim: no checkpoint %s: starting at t = 0\n", file.string().c_str());
@@ -93,7 +112,7 @@ int resumeSimulation(const Scene& scene, const StageOptions& options, const std:
   try {
     sim::StateReader reader(c.simState);
     simulation.restoreState(reader);
-    track.restoreState(c.stageState);
+    restoreStageState(c.stageState, track, series);
   } catch (const sim::StateError& e) {
     throw IoError(file.string() + ": " + e.what());
   }
@@ -116,16 +135,17 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   // that step's state (a resume continues bit for bit); a step whose solve runs on for more than a
   // second after it is cut short and thrown away (a resume starts at the newest checkpoint).
   simulation.setStopChecks(interruptPending, interruptPendingFor(1.0));
+  SimSeries series(simulation, scene.output.frameCount());
   const fs::path checkpoint = checkpointFile(options.outDir);
-  const int resumed = options.resume ? resumeSimulation(scene, options, simHash, simulation, track) : -1;
+  const int resumed = options.resume ? resumeSimulation(scene, options, simHash, simulation, track, series) : -1;
   int saved = resumed;  // the frame of the newest checkpoint
   const auto save = [&](int f) {
     sim::StateWriter state;
     simulation.saveState(state);
-    writeCheckpoint(checkpoint, {f, simulation.time(), state.take(), track.saveState()}, simHash);
+    writeCheckpoint(checkpoint, {f, simulation.time(), state.take(), stageState(track, series)}, simHash);
     saved = f;
   };
-  Progress progress("sim", last + 1, options.progress);
+  Progress progress("sim", last + 1, options.progress, options.observer);
   for (int f = resumed + 1; f <= last; ++f) {
     if (interruptPending()) {
       if (f - 1 > saved) save(f - 1);  // a resume starts after the last frame done
@@ -139,6 +159,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
       throw;
     }
     track.record(simulation);
+    series.record(simulation);
     if (f >= first) {
       ParticleFrame frame = frameFromSimulation(scene, simulation, f);
       frame.sceneHash = simHash;
@@ -149,6 +170,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
   }
   progress.finish();
   if (!scene.sim.bodies.empty()) track.write(options.outDir);
+  series.write(options.outDir);
 
   SimStageRun run;
   run.seconds = secondsSince(start);
@@ -413,7 +435,7 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
   for (int f : todo)
     for (const StageInput& in : stage.inputs(context, f)) requireFile(in.file, in.producer);
   outputFolder(options.outDir, stage.folder);
-  Progress progress(stage.name, int(todo.size()), options.progress);
+  Progress progress(stage.name, int(todo.size()), options.progress, options.observer);
   FrameTally tally;
   int done = 0;
   context.renderer.setStopCheck(interruptPending);  // a signal ends a frame between pixels

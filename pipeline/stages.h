@@ -9,6 +9,7 @@
 #pragma once
 
 #include "pipeline/io/particle_cache.h"
+#include "pipeline/progress.h"
 #include "pipeline/run_record.h"
 #include "pipeline/scene.h"
 #include "render/image.h"
@@ -40,6 +41,8 @@ struct StageOptions {
   // and on SIGINT/SIGTERM).
   bool resume = false;
   int checkpointEvery = 10;
+  // Told of each stage's progress (pipeline/progress.h): the run's report page follows it.
+  ProgressObserver observer;
 };
 
 // The hash (16 hex digits) of everything in the scene that the output of `stage` ("sim",

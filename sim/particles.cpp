@@ -57,4 +57,10 @@ void ParticleSet::removeFlagged(const std::vector<uint8_t>& flags) {
   forEachArray(self, self, [&flags](auto& array, auto&) { compact(array, flags); });
 }
 
+double kineticEnergy(const ParticleSet& p) {
+  double e = 0.0;
+  for (size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
+  return e;
+}
+
 }  // namespace kurage::sim

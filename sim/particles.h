@@ -41,4 +41,7 @@ struct ParticleSet {
   void removeFlagged(const std::vector<uint8_t>& flags);
 };
 
+// Sum of m v^2 / 2 over every particle (fluid and bodies), J, summed in index order in double.
+double kineticEnergy(const ParticleSet& particles);
+
 }  // namespace kurage::sim

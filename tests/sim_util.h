@@ -24,11 +24,7 @@
 namespace kurage::test {
 
 // Sum of m v^2 / 2 over every particle, J.
-inline double kineticEnergy(const sim::ParticleSet& p) {
-  double e = 0.0;
-  for (size_t i = 0; i < p.size(); ++i) e += 0.5 * p.mass[i] * (p.vx[i] * p.vx[i] + p.vy[i] * p.vy[i] + p.vz[i] * p.vz[i]);
-  return e;
-}
+using sim::kineticEnergy;
 
 // (id, x, y, z) of every particle, sorted by id: two runs compared whatever their particles' order.
 inline std::vector<std::array<float, 4>> positionsById(const sim::ParticleSet& p) {

@@ -154,13 +154,14 @@ std::string contentOf(const fs::path& file) {
   return bytes;
 }
 
-// Every file of OUT's stage folders and bodies.csv, by relative path.
+// Every file of OUT's stage folders, bodies.csv and sim_frames.csv, by relative path.
 std::map<std::string, std::string> outputsOf(const fs::path& out) {
   std::map<std::string, std::string> files;
   for (const char* folder : {"particles", "surfaces", "frames"})
     for (const auto& entry : fs::directory_iterator(out / folder))
       files[std::string(folder) + "/" + entry.path().filename().string()] = contentOf(entry.path());
   files["bodies.csv"] = readFile(out / "bodies.csv");
+  files["sim_frames.csv"] = readFile(out / "sim_frames.csv");
   return files;
 }
 
@@ -188,6 +189,7 @@ TEST(Resume, SigtermWritesACheckpointAndTheResumedSimulationIsBitIdentical) {
     EXPECT_EQ(contentOf(out / name), contentOf(reference / name)) << name;
   }
   EXPECT_EQ(readFile(out / "bodies.csv"), readFile(reference / "bodies.csv"));
+  EXPECT_EQ(readFile(out / "sim_frames.csv"), readFile(reference / "sim_frames.csv"));
   const nlohmann::json ran = nlohmann::json::parse(readText(out / "run.json"));
   EXPECT_EQ(ran["stages"]["sim"]["resumed_after_frame"], c.frame);
   EXPECT_EQ(ran["stages"]["sim"]["steps"], nlohmann::json::parse(readText(reference / "run.json"))["stages"]["sim"]["steps"]);

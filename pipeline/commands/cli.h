@@ -79,5 +79,6 @@ int benchRender(ArgParser& args);   // pipeline/commands/cmd_bench_render.cpp
 int benchSurface(ArgParser& args);  // pipeline/commands/cmd_bench_surface.cpp
 int commandFarm(std::vector<std::string> args);   // pipeline/commands/cmd_farm.cpp
 int commandStudy(std::vector<std::string> args);  // pipeline/commands/cmd_study.cpp
+int commandReport(std::vector<std::string> args);  // pipeline/commands/cmd_report.cpp
 
 }  // namespace kurage::pipeline

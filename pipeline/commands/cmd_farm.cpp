@@ -6,6 +6,8 @@
 #include "pipeline/stages.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/json_file.h"
+#include "pipeline/io/process.h"
+#include "pipeline/report/run_report.h"
 #include "pipeline/scene.h"
 
 #include <array>
@@ -31,8 +33,9 @@ const char* const kHelp =
     "Hands a run to Slurm: writes OUT/farm/sim.sbatch (the simulation, one job), frames.sbatch (a\n"
     "job array: surface and render of a chunk of frames per task, after the simulation) and\n"
     "merge.sbatch (after the array: `kurage farm merge`, which assembles OUT/run.json from the tasks'\n"
-    "records and encodes OUT/NAME.mp4). The frames equal those of `kurage run`. OUT, the scene file\n"
-    "and the kurage binary must be at the same absolute paths on every node (a shared file system).\n\n"
+    "records, encodes OUT/NAME.mp4 and writes OUT/report.html). The frames equal those of `kurage\n"
+    "run`. OUT, the scene file and the kurage binary must be at the same absolute paths on every node\n"
+    "(a shared file system).\n\n"
     "  --frames-per-task K  frames per array task (default 8)\n"
     "  --max-tasks N        at most N array tasks (larger chunks)\n"
     "  --partition P, --time-limit T   #SBATCH --partition / --time of every job\n"
@@ -284,6 +287,8 @@ int farmMerge(ArgParser& args) {
   std::printf("run: %s\n", (plan.outDir / "run.json").string().c_str());
   installInterruptHandlers();  // a signal during the encode ends ffmpeg: exit 128 + the signal
   encodeSceneVideo(scene, plan.outDir, plan.first, plan.last);
+  writeRunReport(plan.outDir);
+  std::printf("report: %s\n", (plan.outDir / "report.html").string().c_str());
   return 0;
 }
 

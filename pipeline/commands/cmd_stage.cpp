@@ -2,7 +2,9 @@
 #include "pipeline/commands/cli.h"
 #include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
+#include "pipeline/io/process.h"
 #include "pipeline/io/run_lock.h"
+#include "pipeline/report/run_report.h"
 #include "pipeline/scene.h"
 #include "pipeline/stages.h"
 #include "sim/simulation.h"
@@ -31,6 +33,8 @@ void checkFixedStep(const Scene& scene, const std::string& file, bool strict) {
 }  // namespace
 
 int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
+  std::string commandLine = "kurage " + name;
+  for (const std::string& a : rawArgs) commandLine.append(" ").append(shellWord(a, false));
   ArgParser args(name, std::move(rawArgs));
   if (args.flag({"-h", "--help"})) {
     std::printf("usage: kurage %s SCENE -o OUT [--frames A-B] [--threads N] [--progress] [--strict]\n"
@@ -48,7 +52,8 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
                 "  --width W, --height H, --spp N, --max-depth D\n"
                 "                     override the scene's render resolution, samples per pixel and path depth\n"
                 "                     (after --quality)\n%s"
-                "  --no-video         (run, render) PNG frames only, no OUT/NAME.mp4\n",
+                "  --no-video         (run, render) PNG frames only, no OUT/NAME.mp4\n\n"
+                "OUT/report.html shows the run as a page, kept current while it runs (`kurage report --help`).\n",
                 kStageOptionsHelp, kQualityHelp);
     return 0;
   }
@@ -59,7 +64,7 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   const std::optional<int> height = args.intOption({"--height"}, 1, 16384);
   const std::optional<int> spp = args.intOption({"--spp"}, 1, 65536);
   const std::optional<int> depth = args.intOption({"--max-depth"}, 1, 1024);
-  const StageCommandOptions options = parseStageOptions(args, true);
+  StageCommandOptions options = parseStageOptions(args, true);
   const std::vector<std::string> positional = args.positionals();
   if (positional.size() != 1) args.fail("expected one SCENE");
   const std::string& sceneFile = positional[0];
@@ -84,16 +89,32 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
   record.data()["threads"] = ThreadLimit::current();
   record.data()["quality"] = quality == Quality::Preview ? "preview" : "final";
   record.data()["command"] = name;
+  record.data()["command_line"] = commandLine;
   record.data()["status"] = "running";
+  // `run` is every stage of the table the scene needs, in order; the others are one stage.
+  const bool all = name == "run";
+  std::vector<const StageSpec*> stages;
+  nlohmann::json planned = nlohmann::json::array();
+  for (const StageSpec& stage : stageTable())
+    if (all ? stage.inRun(scene) : name == stage.name) {
+      stages.push_back(&stage);
+      planned.push_back(stage.name);
+    }
+  if (video) planned.push_back("film");
+  record.data()["stages_planned"] = planned;
   record.save();
+  // OUT/report.html follows the run (a farm task leaves it to `kurage farm merge`).
+  std::optional<LiveRunReport> report;
+  if (options.stage.task.empty()) {
+    report.emplace(options.stage.outDir);
+    options.stage.observer = report->observer();
+  }
   try {
-    // `run` is every stage of the table the scene needs, in order; the others are one stage.
-    const bool all = name == "run";
-    for (const StageSpec& stage : stageTable())
-      if (all ? stage.inRun(scene) : name == stage.name) stage.run(scene, options.stage, record);
+    for (const StageSpec* stage : stages) stage->run(scene, options.stage, record);
     const StageSpec& shown = findStage(all ? "render" : name);
     std::printf("%s: %s\n", shown.label, (options.stage.outDir / shown.folder).string().c_str());
     if (video) {
+      if (report) report->update({"film", 0, 1, 0.0, -1.0});
       const auto [first, last] = frameRange(scene, options.stage);
       encodeSceneVideo(scene, options.stage.outDir, first, last, options.stage.force);
     }
@@ -106,11 +127,16 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
       record.save();
     } catch (const std::exception&) {
     }
+    if (report) report->finish();
     throw;
   }
   record.data()["status"] = "complete";
   record.data().erase("error");
   record.save();
+  if (report) {
+    report->finish();
+    std::printf("report: %s\n", (options.stage.outDir / "report.html").string().c_str());
+  }
   return 0;
 }
 

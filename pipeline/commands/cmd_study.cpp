@@ -1,6 +1,7 @@
 // kurage study STUDY.json -o OUT: what accuracy costs in time (pipeline/studies/study.h).
 #include "pipeline/commands/cli.h"
 #include "pipeline/io/files.h"
+#include "pipeline/report/study_report.h"
 #include "pipeline/studies/study.h"
 
 #include <algorithm>
@@ -44,7 +45,8 @@ int commandStudy(std::vector<std::string> rawArgs) {
         "Runs a sweep: the study's base scene with every combination of its knob values, each run's\n"
         "error against a reference and its wall time per stage. Writes OUT/study.csv (one row per\n"
         "run), OUT/study.png (error against time, points labelled with the knob values) and\n"
-        "OUT/study.md (a summary naming the cheapest setting within the study's accepted error).\n"
+        "OUT/study.md (a summary naming the cheapest setting within the study's accepted error), and\n"
+        "OUT/report.html (the figure and every run's status as a page, kept current while it runs).\n"
         "The study file and every scene it makes are validated before anything runs (exit 2 with\n"
         "the file and JSON path); a run that fails is a row with its message. Studies are in\n"
         "scenes/studies/, their results in docs/results/data/studies/ (docs/results/accuracy.md).\n\n"
@@ -81,7 +83,19 @@ int commandStudy(std::vector<std::string> rawArgs) {
     std::printf("%s: valid (%zu runs)\n", positional[0].c_str(), runs);
     return 0;
   }
+  // OUT/report.html follows the runs; a failure to write it is a warning, not the study's end.
+  const auto report = [&](const std::vector<StudyRow>& rows, bool running) {
+    try {
+      writeStudyReport(study, rows, options.outDir, running);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "kurage: warning: the report page was not updated: %s\n", e.what());
+    }
+  };
+  std::filesystem::create_directories(options.outDir);
+  report({}, true);
+  options.onRun = [&](const std::vector<StudyRow>& rows) { report(rows, true); };
   const std::vector<StudyRow> rows = runStudy(study, options);
+  report(rows, false);
   size_t failed = 0;
   for (const StudyRow& r : rows) failed += !r.ok;
   std::printf("study: %s/study.md (%zu runs, %zu failed)\n", options.outDir.string().c_str(), rows.size(), failed);

@@ -1,6 +1,7 @@
 #include "pipeline/farm/farm.h"
 
 #include "pipeline/io/files.h"
+#include "pipeline/io/process.h"
 #include "pipeline/param_visitor.h"
 #include "pipeline/stages.h"
 
@@ -13,12 +14,6 @@
 namespace kurage::pipeline {
 
 namespace fs = std::filesystem;
-
-std::string shellWord(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
 
 namespace {
 

@@ -47,7 +47,7 @@ struct FarmPlan {
 std::vector<FarmChunk> frameChunks(int first, int last, int framesPerTask, int maxTasks);
 
 // Why the plan's values cannot go into job scripts, naming the option ("--partition: ..."), or ""
-// when they can. Every value that reaches a script is either a shell word (shellWord), a quoted
+// when they can. Every value that reaches a script is either a shell word (shellWord, io/process.h), a quoted
 // #SBATCH value, or refused here: control characters anywhere (a newline would end a comment or
 // an #SBATCH line and start a command), a partition other than letters, digits and _ . , -, a
 // time limit other than letters, digits, ':' and '-'.
@@ -73,8 +73,6 @@ struct FarmProgress {
 // of the plan at its quality.
 FarmProgress farmProgress(const FarmPlan& plan, const Scene& scene);
 
-// A word for bash: single-quoted, with ' written as '\''.
-std::string shellWord(const std::string& s);
 
 // "3-5, 9" style list of frame numbers.
 std::string frameList(const std::vector<int>& frames);

@@ -8,7 +8,7 @@
 // FNV-1a 64 of the whole file, checked before anything else is read); a u32 length and a JSON
 // header {"stage": "checkpoint", "scene_hash", "frame", "time", "kurage", "sim_state_bytes",
 // "stage_state_bytes"}; the simulation's state (sim/state.h) and the sim stage's own (the
-// per-frame body records of bodies.csv). A checkpoint is read back only by the kurage version
+// per-frame records of bodies.csv and sim_frames.csv). A checkpoint is read back only by the kurage version
 // that wrote it, for the scene (the simulation's stage hash) it was made from.
 #pragma once
 

@@ -69,4 +69,13 @@ int runProgram(const std::vector<std::string>& argv, std::string* output, const 
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+std::string shellWord(const std::string& s, bool quoteAlways) {
+  if (!quoteAlways && !s.empty() &&
+      s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_./-+=:,@%") == std::string::npos)
+    return s;
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
 }  // namespace kurage::pipeline

@@ -23,4 +23,8 @@ inline constexpr int kProgramStopped = -2;
 // kProgramStopped once it has ended.
 int runProgram(const std::vector<std::string>& argv, std::string* output, const StopRequested& stop = {});
 
+// A word for bash: single-quoted, with ' written as '\''. With `quoteAlways` false, a word of
+// only characters bash takes literally (letters, digits, and _ . / - + = : , @ %) stays as it is.
+std::string shellWord(const std::string& word, bool quoteAlways = true);
+
 }  // namespace kurage::pipeline

@@ -52,6 +52,15 @@ RunLock::RunLock(const std::filesystem::path& outDir, const std::string& command
   }
 }
 
+bool RunLock::held(const std::filesystem::path& outDir) {
+  const int fd = ::open((outDir / ".kurage.lock").c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  // A shared lock conflicts only with a run's exclusive one; it is dropped with the descriptor.
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held;
+}
+
 RunLock::~RunLock() {
   if (fd_ >= 0) ::close(fd_);  // releases the flock
 }

@@ -18,6 +18,10 @@ public:
   RunLock(const RunLock&) = delete;
   RunLock& operator=(const RunLock&) = delete;
 
+  // True while a process holds OUT's lock (a run is writing into it); false when none does or
+  // there is no lock file. Takes nothing and writes nothing.
+  static bool held(const std::filesystem::path& outDir);
+
 private:
   int fd_ = -1;
 };

@@ -1,5 +1,6 @@
 #include "pipeline/studies/study.h"
 
+#include "pipeline/io/csv.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/plot.h"
 #include "pipeline/thread_limit.h"
@@ -32,13 +33,6 @@ std::string shortNumber(double v) {
   if (std::isfinite(v) && v == std::round(v) && std::fabs(v) < 1e7) std::snprintf(buffer, sizeof buffer, "%.0f", v);
   else std::snprintf(buffer, sizeof buffer, "%.3g", v);
   return buffer;
-}
-
-std::string csvField(const std::string& s) {
-  if (s.find_first_of(",\"\n") == std::string::npos) return s;
-  std::string out = "\"";
-  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
-  return out + "\"";
 }
 
 // The step phases (sim::StepPhase) that ran in any row.
@@ -93,12 +87,7 @@ bool wantsLog(const std::vector<double>& values) {
   return hi > 0.0 && hi >= 10.0 * lo;
 }
 
-std::string joinLabels(const Study& study, const StudyRow& r) {
-  std::string out;
-  for (size_t k = 0; k < r.knobLabels.size(); ++k)
-    out += (out.empty() ? "" : ", ") + study.knobs[k].name + " = " + r.knobLabels[k];
-  return out;
-}
+std::string joinLabels(const Study& study, const StudyRow& r) { return studyRunLabel(study, r); }
 
 std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows, const StudyOptions& options) {
   const std::vector<std::string>& figures = study.measure->figures;
@@ -154,9 +143,7 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
   md << " seconds | steps | status |\n| --- | ---: |";
   for (size_t f = 0; f < figures.size(); ++f) md << " ---: |";
   md << " ---: | ---: | --- |\n";
-  const StudyRow* cheapest = nullptr;
-  const StudyRow* best = nullptr;
-  const StudyRow* dearest = nullptr;
+  const auto [cheapest, best, dearest] = studyVerdict(study, rows);
   for (const StudyRow& r : rows) {
     md << "| " << joinLabels(study, r) << " | ";
     if (!r.ok) {
@@ -168,9 +155,6 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
     md << shortNumber(r.error) << " |";
     for (size_t f = 0; f < figures.size(); ++f) md << " " << (f < r.figures.size() ? shortNumber(r.figures[f]) : "") << " |";
     md << " " << shortNumber(r.totalSeconds) << " | " << r.steps << " | ok |\n";
-    if (r.error <= study.errorThreshold && (!cheapest || r.totalSeconds < cheapest->totalSeconds)) cheapest = &r;
-    if (!best || r.error < best->error) best = &r;
-    if (!dearest || r.totalSeconds > dearest->totalSeconds) dearest = &r;
   }
   md << "\n";
   if (cheapest) {
@@ -193,32 +177,25 @@ std::string studyMarkdown(const Study& study, const std::vector<StudyRow>& rows,
 
 }  // namespace
 
-namespace {
-
-// One CSV record (RFC 4180 quoting, as csvField writes it).
-std::vector<std::string> csvRecord(const std::string& line) {
-  std::vector<std::string> fields(1);
-  bool quoted = false;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < line.size() && line[i + 1] == '"') fields.back() += '"', ++i;
-      else if (c == '"') quoted = false;
-      else fields.back() += c;
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      fields.emplace_back();
-    } else {
-      fields.back() += c;
-    }
-  }
-  return fields;
+std::string studyRunLabel(const Study& study, const StudyRow& r) {
+  std::string out;
+  for (size_t k = 0; k < r.knobLabels.size() && k < study.knobs.size(); ++k)
+    out += (out.empty() ? "" : ", ") + study.knobs[k].name + " = " + r.knobLabels[k];
+  return out;
 }
 
-}  // namespace
+StudyVerdict studyVerdict(const Study& study, const std::vector<StudyRow>& rows) {
+  StudyVerdict v;
+  for (const StudyRow& r : rows) {
+    if (!r.ok) continue;
+    if (r.error <= study.errorThreshold && (!v.cheapest || r.totalSeconds < v.cheapest->totalSeconds)) v.cheapest = &r;
+    if (!v.best || r.error < v.best->error) v.best = &r;
+    if (!v.dearest || r.totalSeconds > v.dearest->totalSeconds) v.dearest = &r;
+  }
+  return v;
+}
 
-void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const fs::path& file) {
+Plot studyPlot(const Study& study, const std::vector<StudyRow>& rows) {
   Plot plot;
   plot.title = study.name;
   plot.width = 900;
@@ -269,8 +246,7 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
     plot.x.max = double(rows.size()) + 2.0;
     plot.y.log = wantsLog(ys);
     if (!plot.y.log) plot.y.min = 0.0;
-    writePlot(plot, file);
-    return;
+    return plot;
   }
   // The title names the measure and the failed runs (not drawn); writePlot wraps it to fit.
   size_t failed = 0;
@@ -331,7 +307,11 @@ void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const
     line.y = {study.errorThreshold, study.errorThreshold};
     plot.series.push_back(std::move(line));
   }
-  writePlot(plot, file);
+  return plot;
+}
+
+void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const fs::path& file) {
+  writePlot(studyPlot(study, rows), file);
 }
 
 std::vector<StudyRow> studyRowsFromCsv(const Study& study, const std::string& csv, const std::string& file) {
@@ -418,6 +398,7 @@ std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options) 
                                 .c_str()
                           : row.message.c_str());
     rows.push_back(std::move(row));
+    if (options.onRun) options.onRun(rows);
   }
   writeTextAtomic(options.outDir / "study.csv", studyCsv(study, rows));
   writeStudyPlot(study, rows, options.outDir / "study.png");

@@ -21,6 +21,7 @@
 // lists them.
 #pragma once
 
+#include "pipeline/io/plot.h"
 #include "pipeline/param_visitor.h"
 #include "pipeline/scene.h"
 #include "pipeline/studies/study_measures.h"
@@ -28,6 +29,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -100,10 +102,13 @@ std::vector<std::vector<size_t>> studyCombinations(const std::vector<std::vector
 // The scene of one run: the base scene's JSON with the study's `set` and the knob settings applied.
 nlohmann::json studyRunScene(const Study& study, const std::vector<const KnobSetting*>& settings);
 
+struct StudyRow;
 struct StudyOptions {
   std::filesystem::path outDir;
   int threads = 0;  // 0: all cores
   bool progress = true;  // a line per run on stderr
+  // Told after each run, with the rows so far (the study's report page follows them).
+  std::function<void(const std::vector<StudyRow>& rowsSoFar)> onRun;
 };
 
 // One row of study.csv.
@@ -126,7 +131,21 @@ std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options);
 // The rows of a study.csv that runStudy wrote for `study` (for redrawing its figure). Throws
 // std::runtime_error naming `file` when the CSV does not fit the study.
 std::vector<StudyRow> studyRowsFromCsv(const Study& study, const std::string& csv, const std::string& file);
-// The study's figure (error against time, or seconds by run) as FILE.png, .svg, .pdf and .gp.
+// "knob = label, knob = label" for a run.
+std::string studyRunLabel(const Study& study, const StudyRow& row);
+
+// Among the runs that succeeded: the cheapest whose error is within the accepted one, the one with
+// the smallest error, and the slowest (null where there is none).
+struct StudyVerdict {
+  const StudyRow* cheapest = nullptr;
+  const StudyRow* best = nullptr;
+  const StudyRow* dearest = nullptr;
+};
+StudyVerdict studyVerdict(const Study& study, const std::vector<StudyRow>& rows);
+
+// The study's figure: error against time (or seconds by run for a study without a measure).
+Plot studyPlot(const Study& study, const std::vector<StudyRow>& rows);
+// That figure as FILE.png, .svg, .pdf and .gp.
 void writeStudyPlot(const Study& study, const std::vector<StudyRow>& rows, const std::filesystem::path& file);
 
 

@@ -1,0 +1,23 @@
+// The frame of a report page (pipeline/report/run_report.h, study_report.h): the document head
+// with its inline style sheet, and the footer. A page whose work is still going carries the one
+// script a report has: it reloads the page every 5 s (keeping the scroll position) and, when the
+// page is older than `quietSeconds`, says that the work may have stopped.
+#pragma once
+
+#include <string>
+
+namespace kurage::pipeline {
+
+struct PageHead {
+  std::string title;
+  bool refresh = false;       // the work is going: reload
+  double quietSeconds = 60.0;  // with refresh: how old the page may grow before it says so
+};
+
+// From <!DOCTYPE html> to the opening of <main>.
+std::string pageStart(const PageHead& head);
+// The footer (when the page was written; `command` and what it does, e.g. "redraws it"), the
+// refresh script where the head asks for it, and the closing tags.
+std::string pageEnd(const PageHead& head, const std::string& command, const std::string& what);
+
+}  // namespace kurage::pipeline
