@@ -328,7 +328,15 @@ TEST(RunReport, ThePlotsHoldEveryValueOfTheRecords) {
   EXPECT_EQ(vertexCount(svgById(page, "sim-kinetic-energy")), 4u);
   EXPECT_EQ(vertexCount(svgById(page, "sim-step")), 3u);  // frame 0 has no step
   EXPECT_EQ(vertexCount(seriesOf(svgById(page, "sim-iterations"), "density solve")), 3u);
-  EXPECT_EQ(count(seriesOf(svgById(page, "sim-iterations"), "stopped at the cap"), "<circle"), 1u);
+  // The one cap hit (frame 2) is marked on the density solve's line at frame 2.
+  const std::string capMarks = seriesOf(svgById(page, "sim-iterations"), "stopped at the cap");
+  EXPECT_EQ(count(capMarks, "<circle"), 1u);
+  const auto density = polylines(seriesOf(svgById(page, "sim-iterations"), "density solve"));
+  ASSERT_EQ(density.size(), 1u);
+  std::smatch mark;
+  ASSERT_TRUE(std::regex_search(capMarks, mark, std::regex("cx=\"([^\"]*)\" cy=\"([^\"]*)\"")));
+  EXPECT_NEAR(std::stod(mark[1]), density[0][1].x, 0.1);
+  EXPECT_NEAR(std::stod(mark[2]), density[0][1].y, 0.1);
   EXPECT_EQ(vertexCount(svgById(page, "sim-caps")), 4u);
   EXPECT_EQ(vertexCount(seriesOf(svgById(page, "bodies-fig3"), "bell depth")), 3u);
   EXPECT_EQ(vertexCount(seriesOf(svgById(page, "bodies-fig3"), "bell ring force")), 3u);

@@ -55,13 +55,22 @@ std::string formatNumber(double value, int digits) {
   return s;
 }
 
+namespace {
+// Two significant digits below 10, whole numbers from 10 on ("0.42", "4.1", "12", "150").
+std::string twoDigits(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, v < 10 ? "%.2g" : "%.0f", v);
+  return buffer;
+}
+}  // namespace
+
 std::string formatDuration(double seconds) {
-  char buffer[48];
   if (!std::isfinite(seconds) || seconds < 0) return "";
   if (seconds == 0) return "0 s";
-  if (seconds < 1e-3) std::snprintf(buffer, sizeof buffer, "%.2g µs", seconds * 1e6);
-  else if (seconds < 0.01) std::snprintf(buffer, sizeof buffer, "%.2g ms", seconds * 1e3);
-  else if (seconds < 10) std::snprintf(buffer, sizeof buffer, "%.2g s", seconds);
+  if (seconds < 1e-3) return twoDigits(seconds * 1e6) + " µs";
+  if (seconds < 1) return seconds < 0.01 ? twoDigits(seconds * 1e3) + " ms" : twoDigits(seconds) + " s";
+  char buffer[48];
+  if (seconds < 10) std::snprintf(buffer, sizeof buffer, "%.2g s", seconds);
   else if (seconds < 60) std::snprintf(buffer, sizeof buffer, "%.1f s", seconds);
   else if (seconds < 3600) {
     const long s = std::lround(seconds);
@@ -71,6 +80,11 @@ std::string formatDuration(double seconds) {
     std::snprintf(buffer, sizeof buffer, "%ld h %02ld min", m / 60, m % 60);
   }
   return buffer;
+}
+
+std::string formatPercent(double fraction) {
+  if (!std::isfinite(fraction)) return "";
+  return twoDigits(100.0 * fraction) + " %";
 }
 
 }  // namespace kurage::pipeline

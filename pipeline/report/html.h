@@ -20,4 +20,7 @@ std::string formatNumber(double value, int digits = 3);
 // Seconds as "22 µs", "4.1 ms", "0.42 s", "12.3 s", "4 min 05 s", "2 h 07 min".
 std::string formatDuration(double seconds);
 
+// A fraction as a percentage: "0.42 %", "8.3 %", "73 %", "100 %".
+std::string formatPercent(double fraction);
+
 }  // namespace kurage::pipeline

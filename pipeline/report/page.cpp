@@ -52,6 +52,8 @@ tr.failed td { background: #fdeceb; } tr.pending td { color: #888; }
 .charts { display: grid; grid-template-columns: repeat(auto-fill, minmax(470px, 1fr)); gap: 16px; }
 .charts figure { margin: 0; padding: 8px; background: #fff; border: 1px solid #ddd; border-radius: 6px; }
 .charts svg { display: block; width: 100%; height: auto; }
+figure.wide { margin: 0; max-width: 980px; padding: 8px; background: #fff; border: 1px solid #ddd; border-radius: 6px; }
+figure.wide svg { display: block; width: 100%; height: auto; }
 footer { margin-top: 36px; color: #888; font-size: 13px; }
 )";
 

@@ -378,13 +378,13 @@ std::string timeSection(const Run& run) {
       total += s;
     }
   for (SvgBar& b : bars)
-    b.text = formatDuration(b.value) + (total > 0 ? " · " + formatNumber(100.0 * b.value / total, 2) + " %" : "");
+    b.text = formatDuration(b.value) + (total > 0 ? " · " + formatPercent(b.value / total) : "");
   if (!bars.empty()) o << "<figure>" << svgBarChart("Seconds per stage (" + formatDuration(total) + " in all)", bars, "time-stages") << "</figure>\n";
   if (const json* steps = find(*stages, {"sim", "step_phases"}); steps && steps->is_object() && !steps->empty()) {
     std::vector<SvgBar> shares;
     for (const auto& [name, s] : steps->items())
       shares.push_back({name, number(s, {"share"}, 0.0),
-                        formatNumber(100.0 * number(s, {"share"}, 0.0), 2) + " % · " + formatDuration(number(s, {"seconds"}, 0.0))});
+                        formatPercent(number(s, {"share"}, 0.0)) + " · " + formatDuration(number(s, {"seconds"}, 0.0))});
     std::sort(shares.begin(), shares.end(), [](const SvgBar& a, const SvgBar& b) { return a.value > b.value; });
     o << "<figure>" << svgBarChart("The simulation's step phases (share of the step time)", shares, "time-step-phases") << "</figure>\n";
   }
@@ -450,7 +450,7 @@ std::string simulationSection(const Run& run) {
     if (c.size() > 20 && c.compare(c.size() - 20, 20, "_iterations_per_step") == 0) solves.push_back(c.substr(0, c.size() - 20));
   if (!solves.empty()) {
     Plot p = chart("Pressure solver iterations", "iterations per step");
-    PlotSeries caps = series("stopped at the cap", time, {}, true);
+    PlotSeries caps = series("stopped at the cap", {}, {}, true);
     caps.lines = false;
     caps.colour = Eigen::Vector3f(0.85f, 0.1f, 0.1f);
     caps.markerSize = 1.5;

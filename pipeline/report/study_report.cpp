@@ -51,7 +51,7 @@ std::string studyReportHtml(const Study& study, const std::vector<StudyRow>& row
   Plot plot = studyPlot(study, rows);
   plot.width = 960;
   plot.height = 540;
-  o << "<div class=\"charts\"><figure>" << svgPlot(plot, "study") << "</figure></div>\n";
+  o << "<figure class=\"wide\">" << svgPlot(plot, "study") << "</figure>\n";
   if (scored && !running) {
     const StudyVerdict v = studyVerdict(study, rows);
     o << "<p>";

@@ -75,6 +75,11 @@ Scale makeScale(const PlotAxis& axis, const std::vector<double>& values, int tic
       hi += pad;
     }
     s.ticks = niceTicks(lo, hi, tickCount);
+    // Counts (every value whole) get whole ticks.
+    const bool whole = !values.empty() && std::all_of(values.begin(), values.end(), [](double v) {
+      return !std::isfinite(v) || v == std::round(v);
+    });
+    if (whole && s.ticks.size() > 1 && s.ticks[1] - s.ticks[0] < 1.0) s.ticks = niceTicks(lo, hi, std::max(1, int(hi - lo)));
     s.step = s.ticks.size() > 1 ? s.ticks[1] - s.ticks[0] : hi - lo;
     if (!std::isfinite(axis.min)) lo = std::min(lo, s.ticks.front());
     if (!std::isfinite(axis.max)) hi = std::max(hi, s.ticks.back());
