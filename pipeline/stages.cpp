@@ -160,6 +160,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
     }
     track.record(simulation);
     series.record(simulation);
+    if (options.observer) series.write(options.outDir);  // the live report plots the frames so far
     if (f >= first) {
       ParticleFrame frame = frameFromSimulation(scene, simulation, f);
       frame.sceneHash = simHash;

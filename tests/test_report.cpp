@@ -96,12 +96,13 @@ TEST(SvgPlot, NiceTicksCoverTheRangeInStepsOfOneTwoOrFive) {
 }
 
 TEST(SvgPlot, TickLabelsUseTheFewestDigitsThatTellTicksApart) {
-  EXPECT_EQ(tickLabel(0.015, 0.001), "0.015");
-  EXPECT_EQ(tickLabel(150, 50), "150");
-  EXPECT_EQ(tickLabel(370.5, 0.5), "370.5");
-  EXPECT_EQ(tickLabel(1.5e6, 5e5), "1.5e6");
-  EXPECT_EQ(tickLabel(2e-5, 1e-5), "2e-5");
-  EXPECT_EQ(tickLabel(1e-17, 0.2), "0");
+  EXPECT_EQ(tickLabel(0.015, 0.001, 0.02), "0.015");
+  EXPECT_EQ(tickLabel(150, 50, 200), "150");
+  EXPECT_EQ(tickLabel(370.5, 0.5, 371), "370.5");
+  EXPECT_EQ(tickLabel(1.5e6, 5e5, 1.5e6), "1.5e6");
+  EXPECT_EQ(tickLabel(5e5, 5e5, 1.5e6), "5e5");  // as its axis's largest tick
+  EXPECT_EQ(tickLabel(2e-5, 1e-5, 3e-5), "2e-5");
+  EXPECT_EQ(tickLabel(1e-17, 0.2, 1.0), "0");
 }
 
 Plot linePlot(std::vector<double> y, bool log = false) {
@@ -299,11 +300,11 @@ TEST(RunReport, ARunningRecordWithoutItsProcessIsAStoppedRun) {
   std::string page = runReportHtml(out);
   EXPECT_NE(page.find("class=\"status stopped\""), std::string::npos);
   EXPECT_NE(page.find("no process holds the folder&#39;s lock"), std::string::npos);
-  EXPECT_EQ(page.find("location.reload"), std::string::npos);
+  EXPECT_EQ(page.find("http-equiv=\"refresh\""), std::string::npos);
   const RunLock lock(out, "test");  // a run holds OUT: the page follows it
   page = runReportHtml(out);
   EXPECT_NE(page.find("class=\"status running\""), std::string::npos);
-  EXPECT_NE(page.find("location.reload"), std::string::npos);
+  EXPECT_NE(page.find("http-equiv=\"refresh\""), std::string::npos);
 }
 
 TEST(RunReport, TextFromTheRunIsEscaped) {
@@ -380,7 +381,7 @@ TEST(RunReport, ALivePageRefreshesUntilTheRunEnds) {
   LiveRunReport live(out, 3600.0);
   live.update({"render", 0, 7, 0.0, -1.0});
   std::string page = readText(out / "report.html");
-  EXPECT_NE(page.find("location.reload"), std::string::npos);
+  EXPECT_NE(page.find("http-equiv=\"refresh\""), std::string::npos);
   EXPECT_NE(page.find("<progress id=\"progress\" value=\"0\" max=\"7\">"), std::string::npos);
   live.update({"render", 3, 7, 3.0, 4.0});  // within the interval: not rewritten
   EXPECT_EQ(readText(out / "report.html"), page);
@@ -409,7 +410,7 @@ TEST(StudyReport, RunsDoneFailedAndPending) {
   rows[1].message = "simulation stopped: <nan>";
   TempDir dir;
   std::string page = studyReportHtml(study, rows, dir.path(), true);
-  EXPECT_NE(page.find("location.reload"), std::string::npos);
+  EXPECT_NE(page.find("http-equiv=\"refresh\""), std::string::npos);
   EXPECT_EQ(count(page, "<tr class=\"pending\">"), 4u);
   EXPECT_EQ(count(page, "<tr class=\"failed\">"), 1u);
   EXPECT_NE(page.find("id=\"warnings\""), std::string::npos);

@@ -9,11 +9,13 @@
 // the film (where Chromium can decode H.264), each plot holds every value of sim_frames.csv or
 // bodies.csv, the warnings box shows for a run whose solver hit its iteration cap and not for a
 // clean one. A page with a frame removed must fail the image check (the check can fail). A
-// screenshot of each page is written into the test's folder (kept with KURAGE_KEEP_TEST_OUTPUT).
+// screenshot of each page is written to build/test_output/report_browser/. Without chromium on
+// the PATH the tests are skipped.
 #include "pipeline/io/csv.h"
 #include "pipeline/io/files.h"
 #include "render/image.h"
 
+#include "image_test.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -104,6 +106,15 @@ struct BrowserResult {
   std::string log;
 };
 
+// Where the screenshots go: build/test_output/report_browser/NAME.png (kept after the test).
+fs::path screenshotFile(const std::string& name) {
+  const fs::path folder = test::testOutputFolder("report_browser");
+  fs::create_directories(folder);
+  return folder / (name + ".png");
+}
+
+bool haveChromium() { return std::system("command -v chromium > /dev/null 2>&1") == 0; }
+
 std::string chromium(const fs::path& work, const std::string& arguments, const fs::path& stdoutFile, const fs::path& stderrFile) {
   const fs::path profile = work / ("profile-" + stdoutFile.stem().string());
   fs::create_directories(profile);
@@ -142,7 +153,7 @@ BrowserResult openInBrowser(const fs::path& out, const fs::path& work, const std
   fs::remove(copy);
   // The screenshot of the page itself, as a user sees it.
   if (screenshot) {
-    const std::string shot = "--hide-scrollbars --window-size=1280,2400 --screenshot=" + (work / (name + ".png")).string() +
+    const std::string shot = "--hide-scrollbars --window-size=1280,2400 --screenshot=" + screenshotFile(name).string() +
                              " file://" + (out / "report.html").string();
     EXPECT_EQ(chromium(work, shot, work / (name + "-shot-out.txt"), work / (name + "-shot-log.txt")), "");
   }
@@ -161,6 +172,7 @@ protected:
   // iterations (simulated only).
   static void SetUpTestSuite() {
     dir_ = new test::TempDir;
+    if (!haveChromium()) return;
     const fs::path scene = test::sourceDir() / "tests/scenes/tiny_jellyfish.json";
     ok_ = test::runKurage("run " + scene.string() + " -o " + clean().string(), dir_->path() / "clean.txt") == 0;
     json capped = json::parse(readText(scene));
@@ -179,6 +191,9 @@ protected:
   static fs::path cappedOut() { return dir_->path() / "capped"; }
   static inline test::TempDir* dir_ = nullptr;
   static inline bool ok_ = false;
+  void SetUp() override {
+    if (!haveChromium()) GTEST_SKIP() << "chromium is not on the PATH (.ci/install-deps installs it)";
+  }
 };
 
 TEST_F(ReportInBrowser, ACleanRunLoadsWholeAndPlotsEveryValue) {
@@ -218,7 +233,7 @@ TEST_F(ReportInBrowser, ACleanRunLoadsWholeAndPlotsEveryValue) {
   EXPECT_FALSE(plots.contains("sim-iterations"));  // WCSPH: no solver iterations
   EXPECT_TRUE(r.check["warnings"].is_null()) << r.check["warnings"];
   // The screenshot of the page.
-  const render::Image shot = render::readPng(dir_->path() / "clean.png");
+  const render::Image shot = render::readPng(screenshotFile("clean"));
   EXPECT_EQ(shot.width(), 1280);
 }
 

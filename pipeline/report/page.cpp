@@ -49,7 +49,8 @@ code { font: 13px ui-monospace, "DejaVu Sans Mono", monospace; background: #efef
 table.data th, table.data td { border: 1px solid #ddd; padding: 4px 10px; text-align: left; vertical-align: top; font-size: 14px; }
 table.data th { background: #f0f0ed; }
 tr.failed td { background: #fdeceb; } tr.pending td { color: #888; }
-.charts { display: grid; grid-template-columns: repeat(auto-fill, minmax(470px, 1fr)); gap: 16px; }
+.charts { display: grid; grid-template-columns: repeat(auto-fill, minmax(470px, 1fr)); gap: 16px; align-items: start; }
+.charts + table { margin-top: 16px; }
 .charts figure { margin: 0; padding: 8px; background: #fff; border: 1px solid #ddd; border-radius: 6px; }
 .charts svg { display: block; width: 100%; height: auto; }
 figure.wide { margin: 0; max-width: 980px; padding: 8px; background: #fff; border: 1px solid #ddd; border-radius: 6px; }
@@ -71,7 +72,8 @@ std::string utcNow() {
 std::string pageStart(const PageHead& head) {
   std::string s = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                   "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-                  "<meta name=\"generator\" content=\"kurage\">\n<title>" +
+                  "<meta name=\"generator\" content=\"kurage\">\n" +
+                  std::string(head.refresh ? "<meta http-equiv=\"refresh\" content=\"5\">\n" : "") + "<title>" +
                   escapeHtml(head.title) + "</title>\n<style>" + kStyle + "</style>\n</head>\n<body>\n<main>\n";
   if (head.refresh) s += "<p id=\"quiet\" class=\"quiet\" hidden></p>\n";
   return s;
@@ -93,10 +95,9 @@ std::string pageEnd(const PageHead& head, const std::string& command, const std:
          "    note.textContent = 'No news for ' + Math.round(age / 60000) + ' min: the work may have stopped. '\n"
          "      + 'The page reloads while it waits.';\n"
          "  }\n"
-         "  setTimeout(function () {\n"
+         "  window.addEventListener('pagehide', function () {\n"
          "    try { sessionStorage.setItem('kurage-scroll', String(window.scrollY)); } catch (e) {}\n"
-         "    location.reload();\n"
-         "  }, 5000);\n"
+         "  });\n"
          "})();\n</script>\n";
   }
   s += "</body>\n</html>\n";

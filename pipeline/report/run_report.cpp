@@ -237,6 +237,12 @@ std::string frameTime(const Run& run, int f) {
 std::string filmSection(const Run& run) {
   std::ostringstream o;
   o << "<section id=\"film\">\n<h2>Film</h2>\n";
+  if (run.film.empty() && run.pngs.empty() && run.status != "running") {
+    o << "<p class=\"note\">No frames and no film in this folder: it was not rendered (<code>kurage sim</code> "
+         "simulates only; <code>kurage surface</code> and <code>kurage render</code> on the same scene and OUT, or "
+         "<code>kurage run</code>, make them).</p>\n</section>\n";
+    return o.str();
+  }
   if (!run.film.empty() && run.status != "running") {
     const int poster = run.pngs.empty() ? -1 : std::next(run.pngs.begin(), long(run.pngs.size() / 2))->first;
     // Shown at the film's size, within 320 to 960 pixels wide and at most 540 high.

@@ -2,7 +2,7 @@
 // drawn from OUT alone (run.json, sim_frames.csv, bodies.csv, the frames and the film), so
 // `kurage report OUT` redraws it for any run, and it opens from disk with no network: images and
 // the film are linked by paths relative to OUT, plots are inline SVG (pipeline/report/svg_plot.h),
-// styles are inline, and the only script is the refresh of a running run's page.
+// styles are inline, and the only script is a running run's page's (pipeline/report/page.h).
 //
 // The page, top to bottom: the scene's name, its status (complete, running with the stage, frames
 // done of total and the time left in the stage, failed or interrupted with the error, or stopped:
@@ -11,7 +11,7 @@
 // body particles; a failed run's error); the film (<video> of OUT/NAME.mp4) and a contact sheet
 // of about 24 frames with their times; the run in brief (scene, command, frames, particles,
 // bodies, the solver and its tolerances, time stepping, rendering, versions); where the time went
-// (each stage's seconds, and each step stage's share of the simulation, as bars); the simulation
+// (each stage's seconds, and each step phase's share of the simulation, as bars); the simulation
 // over time (sim_frames.csv: step size, solver iterations and cap hits, density error, particle
 // count, kinetic energy); the bodies over time (bodies.csv: muscle force and depth as in the
 // paper's Fig. 3, rest-density factor, and for shells tilt, margin radius, apex height, diameter,

@@ -120,10 +120,18 @@ std::vector<double> niceTicks(double lo, double hi, int count) {
   return ticks;
 }
 
-std::string tickLabel(double value, double step) {
+namespace {
+double largestTick(const std::vector<double>& ticks) {
+  double m = 0.0;
+  for (double t : ticks) m = std::max(m, std::fabs(t));
+  return m;
+}
+}  // namespace
+
+std::string tickLabel(double value, double step, double largest) {
   if (std::fabs(value) < 1e-9 * step) return "0";
   // Plain decimals from a thousandth to a million ("0.015", "150", "370.5"), powers of ten beyond.
-  if (step >= 1e-3 && std::fabs(value) < 1e6) {
+  if (step >= 1e-3 && std::max(largest, std::fabs(value)) < 1e6) {
     char buffer[48];
     std::snprintf(buffer, sizeof buffer, "%.*f", std::max(0, -int(std::floor(std::log10(step) + 1e-9))), value);
     return buffer;
@@ -185,18 +193,18 @@ std::string svgPlot(const Plot& plot, const std::string& id) {
     const double x = sx(t);
     if (plot.grid) o << "<line x1=\"" << px(x) << "\" y1=\"" << px(top) << "\" x2=\"" << px(x) << "\" y2=\"" << px(top + plotH) << "\" stroke=\"#e6e6e6\"/>\n";
     o << "<text x=\"" << px(x) << "\" y=\"" << px(top + plotH + 16) << "\" text-anchor=\"middle\">"
-      << escapeHtml(sx.log ? logTickLabel(t) : tickLabel(t, sx.step)) << "</text>\n";
+      << escapeHtml(sx.log ? logTickLabel(t) : tickLabel(t, sx.step, largestTick(sx.ticks))) << "</text>\n";
   }
   for (double t : sy.ticks) {
     const double y = sy(t);
     if (plot.grid) o << "<line x1=\"" << px(left) << "\" y1=\"" << px(y) << "\" x2=\"" << px(left + plotW) << "\" y2=\"" << px(y) << "\" stroke=\"#e6e6e6\"/>\n";
     o << "<text x=\"" << px(left - 6) << "\" y=\"" << px(y + 4) << "\" text-anchor=\"end\">"
-      << escapeHtml(sy.log ? logTickLabel(t) : tickLabel(t, sy.step)) << "</text>\n";
+      << escapeHtml(sy.log ? logTickLabel(t) : tickLabel(t, sy.step, largestTick(sy.ticks))) << "</text>\n";
   }
   if (right)
     for (double t : sy2.ticks)
       o << "<text x=\"" << px(left + plotW + 6) << "\" y=\"" << px(sy2(t) + 4) << "\">"
-        << escapeHtml(sy2.log ? logTickLabel(t) : tickLabel(t, sy2.step)) << "</text>\n";
+        << escapeHtml(sy2.log ? logTickLabel(t) : tickLabel(t, sy2.step, largestTick(sy2.ticks))) << "</text>\n";
   o << "<rect x=\"" << px(left) << "\" y=\"" << px(top) << "\" width=\"" << px(plotW) << "\" height=\"" << px(plotH)
     << "\" fill=\"none\" stroke=\"#999\"/>\n";
   if (!plot.x.label.empty())

@@ -24,8 +24,9 @@ namespace kurage::pipeline {
 // is at or below lo, the last at or above hi. lo < hi, both finite.
 std::vector<double> niceTicks(double lo, double hi, int count);
 
-// A tick's text: the fewest digits that tell ticks `step` apart ("0.25", "1500", "2e-5").
-std::string tickLabel(double value, double step);
+// A tick's text: the fewest digits that tell ticks `step` apart ("0.25", "1500", "2e-5"); every
+// tick of an axis whose `largest` |tick| reaches a million is a power-of-ten form ("5e5", "1e6").
+std::string tickLabel(double value, double step, double largest);
 
 // `plot` as an <svg> element; `id` becomes its id attribute (letters, digits, '-', '_').
 std::string svgPlot(const Plot& plot, const std::string& id);
