@@ -86,6 +86,9 @@ TEST_F(Farm, ThreeTasksGiveTheFramesOfALocalRun) {
   EXPECT_EQ(record["stages"]["render"]["tasks"].size(), 3u);
   EXPECT_GT(record["stages"]["sim"]["seconds"].get<double>(), 0.0);
   EXPECT_TRUE(fs::exists(out / "tiny_dam_break.mp4"));
+  // the merge writes the run's page, showing the film it encoded
+  ASSERT_TRUE(fs::exists(out / "report.html"));
+  EXPECT_NE(readText(out / "report.html").find("<source src=\"tiny_dam_break.mp4\""), std::string::npos);
   const std::string status = run((test::binaryDir() / "kurage").string() + " farm status " + out.string());
   EXPECT_NE(status.find("merge  job"), std::string::npos) << status;
   EXPECT_NE(status.find("COMPLETED"), std::string::npos) << status;
