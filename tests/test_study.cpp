@@ -252,6 +252,11 @@ TEST(Study, BadStudyFilesAreRefusedWithExit2NamingTheJsonPath) {
     s["knobs"][0] = {{"path", "gravity"}, {"values", {{0, 0, -9.81}, {0, 0, 0}}}};
     cases.push_back({"still tank without gravity", s, "knobs[0].values[1]"});
   }
+  {
+    nlohmann::json s = tinyStudy();
+    s["scene"] = std::string(300, 's') + ".json";  // longer than a file name may be
+    cases.push_back({"scene name too long for the file system", s, "scene"});
+  }
   for (const Case& c : cases) {
     const std::string file = writeStudy(dir, c.study, "bad.json");
     const auto log = dir.path() / "log.txt";

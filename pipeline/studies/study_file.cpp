@@ -215,7 +215,8 @@ Study parseStudy(const nlohmann::json& document, const fs::path& file) {
 
   // The base scene, then every knob value alone, then every combination, as scenes.
   const fs::path sceneFile = studyPath(study, study.scene);
-  if (!fs::is_regular_file(sceneFile)) fail("scene", "no scene file " + sceneFile.string());
+  std::error_code error;  // a name too long for the file system is no scene file either, not a throw
+  if (!fs::is_regular_file(sceneFile, error)) fail("scene", "no scene file " + sceneFile.string());
   loadScene(sceneFile);  // the base scene's own errors name the scene file
   const std::string sceneName = sceneFile.string();
   // `pathPath`: where a JSON path that does not fit the scene is named.
