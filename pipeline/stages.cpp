@@ -439,9 +439,12 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
   Progress progress(stage.name, int(todo.size()), options.progress, options.observer);
   FrameTally tally;
   int done = 0;
+  // Each frame made and its seconds (the frames skipped as up to date are not listed).
+  nlohmann::json perFrame = {{"frame", nlohmann::json::array()}, {"seconds", nlohmann::json::array()}};
   context.renderer.setStopCheck(interruptPending);  // a signal ends a frame between pixels
   for (int f : todo) {
     throwIfInterrupted();
+    const auto frameStart = std::chrono::steady_clock::now();
     try {
       stage.perFrame(context, f, tally);
     } catch (const std::bad_alloc&) {
@@ -451,13 +454,16 @@ void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOption
       throwIfInterrupted();  // whatever a signal cut short (a frame stopped, ffmpeg ended) was interrupted
       throw;
     }
+    perFrame["frame"].push_back(f);
+    perFrame["seconds"].push_back(secondsSince(frameStart));
     progress.advance(++done);
   }
   progress.finish();
   nlohmann::json entry = {{"seconds", secondsSince(start)},
                           {"frames", {first, last}},
                           {"frames_done", done},
-                          {"frames_skipped", (last - first + 1) - done}};
+                          {"frames_skipped", (last - first + 1) - done},
+                          {"per_frame", std::move(perFrame)}};
   stage.summarise(scene, tally, done, entry);
   record.setStage(stage.name, std::move(entry));
   record.save();

@@ -109,7 +109,7 @@ const std::vector<StageSpec>& stageTable();
 const StageSpec& findStage(const std::string& name);
 // Runs a per-frame stage: checks its inputs, skips frames that are upToDate (unless --force),
 // makes the rest in order (stopping at an interrupt), shows progress and records the stage with
-// frames_done and frames_skipped.
+// frames_done, frames_skipped and per_frame (each frame made and its seconds).
 void runFrameStage(const StageSpec& stage, const Scene& scene, const StageOptions& options, RunRecord& record);
 
 void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& record);
