@@ -11,13 +11,17 @@
 namespace kurage::pipeline {
 
 // Where a stage stands: `done` of `total` items, `seconds` since the stage started and the
-// estimated seconds left at the rate so far (negative: not known yet).
+// estimated seconds left at the rate so far (negative: not known yet); the simulation's time
+// steps so far (negative: another stage); the seconds left in the whole run (negative: not known;
+// pipeline/estimate.h: RunForecast).
 struct ProgressState {
   std::string stage;
   int done = 0;
   int total = 0;
   double seconds = 0.0;
   double secondsLeft = -1.0;
+  long long steps = -1;
+  double runSecondsLeft = -1.0;
 };
 using ProgressObserver = std::function<void(const ProgressState&)>;
 
@@ -25,7 +29,7 @@ class Progress {
 public:
   Progress(std::string label, int total, bool enabled, ProgressObserver observer = {});
   ~Progress();
-  void advance(int done);  // items finished so far
+  void advance(int done, long long steps = -1);  // items finished so far (and the sim's steps)
   void finish();
 
 private:

@@ -167,7 +167,7 @@ void runSimStage(const Scene& scene, const StageOptions& options, RunRecord& rec
       writeParticleFrame(frameFile(folder, f, "vdb"), frame);
     }
     if (f == last || (options.checkpointEvery > 0 && (f + 1) % options.checkpointEvery == 0)) save(f);
-    progress.advance(f + 1);
+    progress.advance(f + 1, static_cast<long long>(simulation.stats().steps));
   }
   progress.finish();
   if (!scene.sim.bodies.empty()) track.write(options.outDir);
