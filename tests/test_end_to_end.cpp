@@ -225,6 +225,77 @@ TEST(EndToEnd, HelpOnEverySubcommand) {
   EXPECT_EQ(test::runKurage("frobnicate", dir.path() / "bad.txt"), 2);
 }
 
+// `kurage check --estimate` prints every figure of the estimate, and its steps are at most those
+// a real run takes and at least 1 / 1.2 of them: (frames - 1) x ceil(frame interval / the step at
+// rest) leaves out only the steps that a moving flow shortens (the tiny scenes, which all move from
+// the start, take 7 %, 14 % and 10 % more than the estimate; the calm jellyfish 0.6 %).
+TEST(CheckEstimate, TinyScenesPrintEveryFigureAndTheStepsOfARun) {
+  test::TempDir dir;
+  for (const char* name : {"tiny_dam_break", "tiny_membrane", "tiny_jellyfish"}) {
+    const fs::path scene = test::sourceDir() / "tests/scenes" / (std::string(name) + ".json");
+    const fs::path log = dir.path() / (std::string(name) + ".txt");
+    ASSERT_EQ(test::runKurage("check " + scene.string() + " --estimate --quality preview", log), 0)
+        << pipeline::readText(log);
+    const std::string text = pipeline::readText(log);
+    for (const char* field : {"particles ", "frames ", "steps ", "sim ", "surface ", "render ", "encode ", "total "})
+      EXPECT_NE(text.find("\n  " + std::string(field)), std::string::npos) << name << ": " << field << "\n" << text;
+    ASSERT_EQ(test::runKurage("check " + scene.string() + " --estimate --json", log), 0) << pipeline::readText(log);
+    const nlohmann::json estimate = nlohmann::json::parse(pipeline::readText(log));
+    for (const char* stage : {"sim", "surface", "render", "encode", "total"})
+      EXPECT_GT(estimate["minutes"][stage].get<double>(), 0.0) << name << ": " << stage;
+    const fs::path out = dir.path() / name;
+    ASSERT_EQ(test::runKurage("sim " + scene.string() + " -o " + out.string() + " --threads 2", log), 0)
+        << pipeline::readText(log);
+    const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+    const double steps = run["stages"]["sim"]["steps"].get<double>();
+    EXPECT_EQ(estimate["frames"].get<double>(), run["derived"]["frame_count"].get<double>()) << name;
+    EXPECT_LE(estimate["steps"].get<double>(), steps) << name;
+    EXPECT_GE(1.2 * estimate["steps"].get<double>(), steps) << name;
+  }
+  EXPECT_EQ(test::runKurage("check " + (test::sourceDir() / "tests/scenes/tiny_dam_break.json").string() + " --json",
+                            dir.path() / "bad.txt"), 2)
+      << "--json without --estimate";
+}
+
+// run.json's per-frame stages list each frame's seconds, which add up to nearly the stage's (the
+// rest is the check of which frames are up to date and the report page), and `kurage run` prints
+// what it expects from the model at its start and from each stage's first measured frame.
+TEST(EndToEnd, RunRecordsEachFramesSecondsAndSaysHowLongItExpectsToTake) {
+  test::TempDir dir;
+  const fs::path out = dir.path() / "out";
+  const fs::path scene = test::sourceDir() / "tests/scenes/tiny_dam_break.json";
+  ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --threads 2 --no-video",
+                            dir.path() / "log.txt"), 0)
+      << pipeline::readText(dir.path() / "log.txt");
+  const nlohmann::json run = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  for (const char* name : {"surface", "render"}) {
+    const nlohmann::json& stage = run["stages"][name];
+    ASSERT_TRUE(stage.contains("per_frame")) << name;
+    EXPECT_EQ(stage["per_frame"]["frame"], nlohmann::json({0, 1, 2, 3, 4})) << name;
+    ASSERT_EQ(stage["per_frame"]["seconds"].size(), 5u) << name;
+    double sum = 0.0;
+    for (const auto& s : stage["per_frame"]["seconds"]) {
+      EXPECT_GT(s.get<double>(), 0.0) << name;
+      sum += s.get<double>();
+    }
+    const double seconds = stage["seconds"].get<double>();
+    EXPECT_LE(sum, seconds) << name;
+    EXPECT_GE(sum, 0.5 * seconds) << name;
+  }
+  const std::string log = pipeline::readText(dir.path() / "log.txt");
+  for (const char* line : {"run: expected (model): sim ", "run: sim frame 1: ", "run: surface: first frame in ",
+                           "run: render: first frame in "})
+    EXPECT_NE(log.find(line), std::string::npos) << line << "\n" << log;
+  EXPECT_NE(log.find("; expected left: sim 0.0 min, surface "), std::string::npos) << log;
+  EXPECT_NE(log.find(" min in all\n"), std::string::npos) << log;
+
+  // Run again: every frame is up to date, none is made, none is listed.
+  ASSERT_EQ(test::runKurage("run " + scene.string() + " -o " + out.string() + " --threads 2 --no-video",
+                            dir.path() / "again.txt"), 0);
+  const nlohmann::json again = nlohmann::json::parse(pipeline::readText(out / "run.json"));
+  EXPECT_TRUE(again["stages"]["render"]["per_frame"]["frame"].empty());
+}
+
 // bench sim times solvers (--solver dfsph-calm among them) from the same moment of the collapse
 // (--warmup-time) over the same simulated window (--duration) at the step and DFSPH tolerances
 // the user picks (--cfl, --pressure-factor, --max-density-error, --max-divergence-error), and

@@ -385,9 +385,11 @@ TEST(RunReport, ALivePageRefreshesUntilTheRunEnds) {
   EXPECT_NE(page.find("<progress id=\"progress\" value=\"0\" max=\"7\">"), std::string::npos);
   live.update({"render", 3, 7, 3.0, 4.0});  // within the interval: not rewritten
   EXPECT_EQ(readText(out / "report.html"), page);
-  live.update({"render", 7, 7, 7.0, 0.0});  // a stage's end always is
+  EXPECT_EQ(page.find("left in the run"), std::string::npos) << "not known yet";
+  live.update({"render", 7, 7, 7.0, 0.0, -1, 90.0});  // a stage's end always is
   page = readText(out / "report.html");
   EXPECT_NE(page.find("7 of 7 frames"), std::string::npos);
+  EXPECT_NE(page.find(" left in the run"), std::string::npos) << "the run's forecast (pipeline/estimate.h)";
   nlohmann::json run = nlohmann::json::parse(readText(out / "run.json"));
   run["status"] = "complete";
   writeTextAtomic(out / "run.json", run.dump());

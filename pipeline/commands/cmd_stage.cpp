@@ -1,5 +1,6 @@
 // kurage run | sim | surface | render SCENE -o OUT
 #include "pipeline/commands/cli.h"
+#include "pipeline/estimate.h"
 #include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/process.h"
@@ -109,12 +110,32 @@ int commandStage(const std::string& name, std::vector<std::string> rawArgs) {
     report.emplace(options.stage.outDir);
     options.stage.observer = report->observer();
   }
+  // `run` says how long it expects to take: from the model at its start (`kurage check
+  // --estimate`), then from each stage's first measured frame.
+  std::optional<RunForecast> forecast;
+  if (all) {
+    RunSize size = runSize(scene, sim::Simulation(scene.sim), ThreadLimit::current(), video);
+    const auto [first, last] = frameRange(scene, options.stage);
+    size.frames = last - first + 1;
+    forecast.emplace(estimateRun(size));
+    std::printf("run: expected (model): %s\n", forecast->line().c_str());
+    std::fflush(stdout);
+    options.stage.observer = [&forecast, page = options.stage.observer](const ProgressState& told) {
+      ProgressState state = told;
+      const std::string measured = forecast->observe(state);
+      if (!measured.empty()) {
+        std::printf("run: %s; expected left: %s\n", measured.c_str(), forecast->line().c_str());
+        std::fflush(stdout);
+      }
+      if (page) page(state);
+    };
+  }
   try {
     for (const StageSpec* stage : stages) stage->run(scene, options.stage, record);
     const StageSpec& shown = findStage(all ? "render" : name);
     std::printf("%s: %s\n", shown.label, (options.stage.outDir / shown.folder).string().c_str());
     if (video) {
-      if (report) report->update({"film", 0, 1, 0.0, -1.0});
+      if (options.stage.observer) options.stage.observer({"film", 0, 1, 0.0, -1.0});
       const auto [first, last] = frameRange(scene, options.stage);
       encodeSceneVideo(scene, options.stage.outDir, first, last, options.stage.force);
     }

@@ -185,6 +185,7 @@ std::string statusLine(const Run& run) {
     }
     o << " · " << escapeHtml(formatDuration(p.seconds)) << " in this stage";
     if (p.secondsLeft >= 0) o << " · about " << escapeHtml(formatDuration(p.secondsLeft)) << " left in it";
+    if (p.runSecondsLeft >= 0) o << " · about " << escapeHtml(formatDuration(p.runSecondsLeft)) << " left in the run";
   } else if (s == "running") {
     o << "another process is writing into this folder; this page shows what it has written so far";
   } else {

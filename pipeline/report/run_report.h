@@ -5,10 +5,10 @@
 // styles are inline, and the only script is a running run's page's (pipeline/report/page.h).
 //
 // The page, top to bottom: the scene's name, its status (complete, running with the stage, frames
-// done of total and the time left in the stage, failed or interrupted with the error, or stopped:
-// "running" in run.json but no process holds OUT's lock); a warnings box where there is anything
-// to warn of (run.json's stages.*.warnings: the solver's or the collision loop's cap hits, torn
-// body particles; a failed run's error); the film (<video> of OUT/NAME.mp4) and a contact sheet
+// done of total and the time left in the stage and in the run, failed or interrupted with the
+// error, or stopped: "running" in run.json but no process holds OUT's lock); a warnings box
+// where there is anything to warn of (run.json's stages.*.warnings: the solver's or the collision
+// loop's cap hits, torn body particles; a failed run's error); the film (<video> of OUT/NAME.mp4) and a contact sheet
 // of about 24 frames with their times; the run in brief (scene, command, frames, particles,
 // bodies, the solver and its tolerances, time stepping, rendering, versions); where the time went
 // (each stage's seconds, and each step phase's share of the simulation, as bars); the simulation
