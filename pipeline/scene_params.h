@@ -502,6 +502,8 @@ void describe(V& v, render::WhittedSettings& p) {
           {"", "shadow rays towards the sky per diffuse point (fixed cosine-distributed directions)", between(1, 1024)});
   v.value("light_samples", p.lightSamples,
           {"", "points per side of the fixed grid on each area light", between(1, 64)});
+  v.value("filter_textures", p.filterTextures,
+          {"", "box-filter checker textures over the pixel's footprint (ray cones): far checkers average instead of aliasing"});
 }
 
 template <class V>

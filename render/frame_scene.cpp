@@ -1,8 +1,11 @@
 // See frame_scene.h.
 #include "render/frame_scene.h"
 
+#include "render/materials.h"
+
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -106,6 +109,32 @@ Vector3f FrameScene::transmittance(Vector3f origin, const Vector3f& direction, f
     if (!(tfar > 0.0f)) return through * etendue;
   }
   return Vector3f::Zero();
+}
+
+Vector3f FrameScene::filteredAlbedo(const Hit& hit, const Vector3f& direction, float width) const {
+  const Ground& g = input.ground;
+  const bool ground = hit.kind == Hit::Ground;
+  if (!(width > 0.0f) || (ground ? !(g.checkerSize > 0.0f) : !(hit.material && hit.material->checkerSize > 0.0f)))
+    return hit.albedo;
+  const Vector3f& n = hit.ng;
+  const float cosine = std::max(std::abs(direction.dot(n)), 1e-4f);
+  Vector3f across = direction.cross(n);
+  if (across.squaredNorm() < 1e-12f) across = n.unitOrthogonal();
+  across.normalize();
+  const Vector3f a1 = width * across, a2 = (width / cosine) * n.cross(across);
+  if (!ground) {
+    const Vector3f box = (a1.cwiseAbs2() + a2.cwiseAbs2()).cwiseSqrt();
+    return checkerAlbedoFiltered(*hit.material, hit.material->albedo, hit.point, box);
+  }
+  const Vector3f offset = hit.point - g.point;
+  double parity = 1.0;
+  for (const Vector3f& axis : {groundU, groundV}) {
+    const double centre = double(offset.dot(axis)) / g.checkerSize;
+    const double half = 0.5 * std::hypot(double(a1.dot(axis)), double(a2.dot(axis))) / g.checkerSize;
+    parity *= checkerWaveMean(centre - half, centre + half);
+  }
+  const float even = float(0.5 * (1.0 + parity));
+  return even * g.albedoA + (1.0f - even) * g.albedoB;
 }
 
 bool FrameScene::groundBlocks(const Vector3f& origin, const Vector3f& direction) const {

@@ -47,6 +47,15 @@ struct FrameScene {
   // Whether the infinite ground stands in the way of the ray (shadow rays ignore it otherwise: it
   // casts no shadows, but the sky below its horizon must not light anything above it).
   bool groundBlocks(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction) const;
+  // The hit's albedo box-filtered over the footprint of a ray cone (Amanatides 1984; Akenine-Moller
+  // et al. 2021, "Improved shader and texture level of detail using ray cones", JCGT 10(1)) of
+  // width `width` (metres, at the hit) along unit `direction`: on the surface an ellipse of axes
+  // width across the ray and width / |cos| along it (cos = direction . ng, at least 1e-4); each
+  // checker axis is averaged over a box of the full width sqrt(a1_i^2 + a2_i^2) (a1, a2 the
+  // ellipse's axes: the box of the same variance). The ground's checker in its (u, v) axes, a
+  // material's 3-D checker in x, y, z (materials.h); hit.albedo where there is no checker or the
+  // width is 0.
+  Eigen::Vector3f filteredAlbedo(const Hit& hit, const Eigen::Vector3f& direction, float width) const;
   // Where a ray leaving the hit in direction wi starts: the point moved by epsilon along ng to
   // wi's side.
   Eigen::Vector3f leave(const Hit& hit, const Eigen::Vector3f& wi) const {

@@ -95,6 +95,27 @@ Vector3f checkerAlbedo(const Material& m, const Vector3f& albedo, const Vector3f
   return std::fmod(std::abs(cells), 2.0) == 0.0 ? albedo : m.albedoB;
 }
 
+double checkerWaveMean(double x0, double x1) {
+  // the measure of {s < x : floor(s) odd} relative to s = 0, continuous and piecewise linear
+  const auto odd = [](double x) {
+    const double pairs = std::floor(0.5 * x);
+    return pairs + std::max(x - 2.0 * pairs - 1.0, 0.0);
+  };
+  if (!(x1 - x0 > 1e-9)) return std::fmod(std::abs(std::floor(x0)), 2.0) == 0.0 ? 1.0 : -1.0;
+  return 1.0 - 2.0 * (odd(x1) - odd(x0)) / (x1 - x0);
+}
+
+Vector3f checkerAlbedoFiltered(const Material& m, const Vector3f& albedo, const Vector3f& p, const Vector3f& width) {
+  if (!(m.checkerSize > 0.0f)) return albedo;
+  double parity = 1.0;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double centre = double(p[axis]) / m.checkerSize, half = 0.5 * double(width[axis]) / m.checkerSize;
+    parity *= checkerWaveMean(centre - half, centre + half);
+  }
+  const float even = float(0.5 * (1.0 + parity));
+  return even * albedo + (1.0f - even) * m.albedoB;
+}
+
 float fresnelDielectric(float cosI, float etaI, float etaT) {
   cosI = std::clamp(cosI, 0.0f, 1.0f);
   const float sinT = etaI / etaT * std::sqrt(std::max(0.0f, 1.0f - cosI * cosI));

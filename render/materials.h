@@ -40,6 +40,19 @@ struct Material {
 // The albedo at world point p: `albedo` or, with a checker, albedo/albedoB by cell parity.
 Eigen::Vector3f checkerAlbedo(const Material& m, const Eigen::Vector3f& albedo, const Eigen::Vector3f& p);
 
+// Box-filtered checkers (Pharr, Jakob & Humphreys, Physically Based Rendering, 4th ed., sec.
+// 10.5.3 "Checkerboard", after Peachey's closed form): the mean of the square wave (-1)^floor(x)
+// over [x0, x1] (x in cells), from its antiderivative; the point value where x1 - x0 < 1e-9.
+// Exact for any width; the mean is 0 over whole pairs of cells.
+double checkerWaveMean(double x0, double x1);
+
+// checkerAlbedo averaged over the axis-aligned box centred on p with full widths `width` (metres,
+// >= 0 per axis): the parity sign is the product of one square wave per axis, so its mean over a
+// box is the product of the axes' means P, and the albedo (1 + P)/2 albedo + (1 - P)/2 albedoB.
+// A zero width gives checkerAlbedo.
+Eigen::Vector3f checkerAlbedoFiltered(const Material& m, const Eigen::Vector3f& albedo, const Eigen::Vector3f& p,
+                                      const Eigen::Vector3f& width);
+
 // Unpolarised Fresnel reflectance of a smooth interface; cosI = cos of the incidence angle
 // (> 0) on the side with index etaI, the other side has etaT. 1 under total internal reflection.
 float fresnelDielectric(float cosI, float etaI, float etaT);

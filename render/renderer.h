@@ -37,6 +37,8 @@ enum class IntegratorType { Path, Whitted };
 struct WhittedSettings {
   int skyDirections = 16;  // shadow rays towards the sky per diffuse point, >= 1
   int lightSamples = 2;    // grid points per side on each area light, >= 1
+  // checkers box-filtered over the pixel's ray-cone footprint (integrators/whitted.cpp)
+  bool filterTextures = true;
 };
 
 // Adaptive sampling (noisy integrators: path): every pixel takes minSamples paths, then more in

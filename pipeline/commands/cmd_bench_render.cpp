@@ -10,7 +10,8 @@
 // on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, pipeline/analysis/image_rmse.h) against a
 // reference rendered once by the path tracer with environment sampling and --reference-spp
 // samples (another seed), and, for the whitted rows, also against whitted itself at 64 sub-pixel
-// samples and the row's sky directions (its only error is then aliasing). Every row but the
+// samples, the row's sky directions and its texture filtering (its only error is then aliasing;
+// the "whitted unfiltered" rows point-sample checkers). Every row but the
 // whitted ones, the reference and --variance are path-traced whatever integrator the scene file
 // names. With --variance: where the noise comes from, the
 // RMSE between two renders that differ only in the seed, divided by sqrt(2) (the noise of one
@@ -97,12 +98,17 @@ std::vector<BenchRow> rmseRows() {
                       s.adaptive.minSamples = lo;
                       s.adaptive.maxSamples = hi;
                     }});
-  for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{4, 4}, std::pair{16, 4}, std::pair{1, 16}, std::pair{4, 16}})
-    rows.push_back({"whitted, " + std::to_string(spp) + " spp, " + std::to_string(sky) + " sky rays", [spp, sky](S& s) {
-                      s.integrator = render::IntegratorType::Whitted;
-                      s.samplesPerPixel = spp;
-                      s.whitted.skyDirections = sky;
-                    }});
+  for (const bool filter : {true, false})
+    for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{2, 4}, std::pair{4, 4}, std::pair{8, 4}, std::pair{16, 4},
+                                   std::pair{1, 16}, std::pair{4, 16}})
+      rows.push_back({std::string(filter ? "whitted, " : "whitted unfiltered, ") + std::to_string(spp) + " spp, " +
+                          std::to_string(sky) + " sky rays",
+                      [spp, sky, filter](S& s) {
+                        s.integrator = render::IntegratorType::Whitted;
+                        s.samplesPerPixel = spp;
+                        s.whitted.skyDirections = sky;
+                        s.whitted.filterTextures = filter;
+                      }});
   return rows;
 }
 
@@ -143,16 +149,18 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
   render::RenderStats referenceStats;
   bool referenceRead = false;
   const render::Image reference = rmseReference(frame, referenceFile, referenceSpp, referenceStats, referenceRead);
-  // Whitted's own converged frame, per number of sky directions: 64 sub-pixel samples.
-  std::map<int, render::Image> whittedReferences;
-  const auto whittedReference = [&](int skyDirections) -> const render::Image& {
-    auto it = whittedReferences.find(skyDirections);
+  // Whitted's own converged frame, per number of sky directions and texture filtering: 64
+  // sub-pixel samples.
+  std::map<std::pair<int, bool>, render::Image> whittedReferences;
+  const auto whittedReference = [&](const render::WhittedSettings& whitted) -> const render::Image& {
+    const std::pair key{whitted.skyDirections, whitted.filterTextures};
+    auto it = whittedReferences.find(key);
     if (it != whittedReferences.end()) return it->second;
     Scene whittedScene = pathScene;
     whittedScene.render.settings.integrator = render::IntegratorType::Whitted;
-    whittedScene.render.settings.whitted.skyDirections = skyDirections;
+    whittedScene.render.settings.whitted = whitted;
     whittedScene.render.settings.samplesPerPixel = 64;
-    return whittedReferences.emplace(skyDirections, frame.render(whittedScene, nullptr)).first->second;
+    return whittedReferences.emplace(key, frame.render(whittedScene, nullptr)).first->second;
   };
   const render::RenderSettings& base = frame.scene.render.settings;
   nlohmann::json result = {{"benchmark", "render_rmse"}, {"machine", machineRecord()},
@@ -184,7 +192,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     stats.seconds = seconds[seconds.size() / 2];
     const double rmse = imageRmse(image, reference);
     const bool whitted = scene.render.settings.integrator == render::IntegratorType::Whitted;
-    const double self = whitted ? imageRmse(image, whittedReference(scene.render.settings.whitted.skyDirections)) : -1.0;
+    const double self = whitted ? imageRmse(image, whittedReference(scene.render.settings.whitted)) : -1.0;
     const double spp = double(stats.samples) / (double(base.width) * base.height);
     result["rows"].push_back({{"run", row.label}, {"seconds", stats.seconds}, {"rmse", rmse}, {"mean_spp", spp},
                               {"rmse_vs_whitted64", whitted ? nlohmann::json(self) : nlohmann::json(nullptr)}});

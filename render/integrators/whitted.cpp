@@ -17,6 +17,19 @@
 // bodies are shaded as diffuse with albedo tint^2 (1 - F) (light scattered in and out once) plus
 // the Fresnel reflection. No indirect diffuse light, no caustics.
 //
+// Textures (filterTextures): every ray carries a cone (Amanatides 1984, "Ray tracing with cones";
+// Akenine-Moller et al. 2021, JCGT 10(1)): width w = w0 + spread t, starting at the pinhole with
+// w0 = 0 and spread = p cos^1.5(theta), p = 2 tan(fov/2) / height the angle of a pixel on the
+// axis, theta the ray's angle to the axis (a pixel subtends p cos^2 radially and p cos
+// tangentially; the geometric mean). Every sample filters over the whole pixel's footprint, not
+// its 1/S share: the fixed sub-pixel points are no grid whose shares would tile the pixel, and on
+// a plane the whole footprint gives the pixel's exact mean at any S (at an object's outline the
+// texture is averaged a little past it). Reflection keeps the spread; refraction scales it by
+// eta_i / eta_t (Snell's law at normal incidence); surface curvature is ignored. A checker is
+// averaged over the cone's footprint in closed form (FrameScene::filteredAlbedo), so a far
+// checker ground converges to its mean where point samples alias. The sun, lights and sky are
+// not filtered.
+//
 // Camera samples: samplesPerPixel fixed sub-pixel positions of a Hammersley set shifted half a
 // stratum in ((s + 1/2)/n, frac(radicalInverse2(s) + 1/2n)), the lens point the same two numbers
 // swapped. The image depends on neither the seed nor the thread count, and has no noise; the
@@ -46,6 +59,12 @@ class WhittedIntegrator final : public Integrator {
 public:
   WhittedIntegrator(const FrameScene& scene, const RenderSettings& settings)
       : f_(scene), settings_(settings), skySamples_(std::max(1, settings.samplesPerPixel)) {
+    const Camera& camera = scene.input.camera;
+    forward_ = (camera.lookAt - camera.position).normalized();
+    pixelAngle_ = settings.whitted.filterTextures
+                      ? 2.0f * std::tan(0.5f * camera.verticalFovDegrees * std::numbers::pi_v<float> / 180.0f) /
+                            float(std::max(1, settings.height))
+                      : 0.0f;
     // fixed Hammersley points, shifted half a stratum off the pole
     const int points = settings.whitted.skyDirections * skySamples_;
     for (int k = 0; k < points; ++k) {
@@ -65,13 +84,19 @@ public:
 
   Vector3f radiance(const Vector3f& origin, const Vector3f& direction, int s, PixelSampler&, RayCounters& counters,
                     bool& hitSomething, PathFeatures*) const override {
-    return trace(origin, direction, 0, Vector3f::Zero(), 1.0f, s, counters, &hitSomething);
+    const float cosine = std::max(0.0f, forward_.dot(direction));
+    const Cone cone{0.0f, pixelAngle_ * cosine * std::sqrt(cosine)};
+    return trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, s, counters, &hitSomething);
   }
 
 private:
+  // A ray's cone: width (metres) at the ray's origin, and its growth per metre (radians).
+  struct Cone {
+    float width = 0.0f, spread = 0.0f;
+  };
   Vector3f direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, int sample, RayCounters& counters) const;
   Vector3f trace(const Vector3f& origin, const Vector3f& direction, int depth, const Vector3f& absorption,
-                 float weight, int sample, RayCounters& counters, bool* hitSomething) const;
+                 float weight, const Cone& cone, int sample, RayCounters& counters, bool* hitSomething) const;
 
   const FrameScene& f_;
   const RenderSettings& settings_;
@@ -79,6 +104,8 @@ private:
   // Hammersley set); the pixel's sample s takes points s, s + S, s + 2 S, ... (S = skySamples_)
   std::vector<Vector2f> skySet_;
   int skySamples_ = 1;
+  Vector3f forward_;         // the camera's viewing direction, unit
+  float pixelAngle_ = 0.0f;  // a pixel's cone spread on the axis, radians (0: no filtering)
 };
 
 // Direct light at a diffuse point of the given albedo, no noise: the sun along its centre
@@ -138,8 +165,8 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const
 // Radiance along a ray; `weight` is the product of the Fresnel and mirror factors so far (for the
 // cutoff), `absorption` the medium's coefficient (0: air).
 Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direction, int depth,
-                                  const Vector3f& absorption, float weight, int sample, RayCounters& counters,
-                                  bool* hitSomething) const {
+                                  const Vector3f& absorption, float weight, const Cone& cone, int sample,
+                                  RayCounters& counters, bool* hitSomething) const {
   const FrameScene& f = f_;
   const Hit hit = f.intersect(origin, direction, counters);
   if (hitSomething) *hitSomething = hit.kind != Hit::None;
@@ -158,14 +185,21 @@ Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direct
   if (depth >= settings_.maxDepth) return Vector3f::Zero();
   const Material& material = hit.material ? *hit.material : kGroundMaterial;
   const Vector3f wo = -direction;
+  const float width = cone.width + cone.spread * hit.t;
+  const Vector3f albedo = cone.spread > 0.0f ? f.filteredAlbedo(hit, direction, width) : hit.albedo;
   Vector3f radiance = Vector3f::Zero();
   const auto follow = [&](const ScatterSample& s, const Vector3f& factor) {
     const float branch = weight * factor.maxCoeff();
     if (!(branch >= kWhittedCutoff)) return;
     Vector3f medium = absorption;
-    if (s.transmitted && hit.material) medium = wo.dot(hit.ng) > 0.0f ? material.absorption : Vector3f::Zero();
+    Cone next{width, cone.spread};
+    if (s.transmitted && hit.material) {
+      const bool entering = wo.dot(hit.ng) > 0.0f;
+      medium = entering ? material.absorption : Vector3f::Zero();
+      next.spread *= entering ? 1.0f / material.ior : material.ior;
+    }
     radiance += factor.cwiseProduct(
-        trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, sample, counters, nullptr));
+        trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, next, sample, counters, nullptr));
   };
   // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
   const auto fresnel = [&] {
@@ -178,7 +212,7 @@ Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direct
   constexpr float kAlmostOne = 1.0f - 0x1p-24f;
   switch (material.type) {
     case MaterialType::Diffuse:
-      radiance = direct(hit, hit.albedo, wo, sample, counters);
+      radiance = direct(hit, albedo, wo, sample, counters);
       break;
     case MaterialType::Mirror:
       if (sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s)) follow(s, s.weight);
@@ -195,7 +229,7 @@ Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direct
       const float F = fresnel();
       if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s) && !s.transmitted)
         follow(s, Vector3f::Constant(F));
-      radiance += direct(hit, hit.albedo.cwiseProduct(hit.albedo) * (1.0f - F), wo, sample, counters);
+      radiance += direct(hit, albedo.cwiseProduct(albedo) * (1.0f - F), wo, sample, counters);
       break;
     }
   }
