@@ -120,6 +120,38 @@ inline float relaxedNeighbours(float supportRadius) {
   return std::min(count, 26.0f);
 }
 
+// One iterative solve's figures over a run (run.json's "<solve>.*" keys; checkpointed as bytes):
+// iterations summed and the most in one step, the steps that stopped at the cap, and the final
+// mean error (fraction of rho0) of the last step, summed over steps and the largest.
+struct SolveStats {
+  uint64_t iterations = 0;
+  int maxIterations = 0;
+  uint64_t capHits = 0;
+  double lastError = 0.0;
+  double sumError = 0.0;
+  double maxError = 0.0;
+  void record(int stepIterations, double error, bool capped) {  // once a step that solves
+    iterations += uint64_t(stepIterations);
+    maxIterations = std::max(maxIterations, stepIterations);
+    if (capped) ++capHits;
+    lastError = error;
+    sumError += error;
+    maxError = std::max(maxError, error);
+  }
+  // `steps`: the solver's steps (the means' divisor); `tolerance` a fraction of rho0.
+  void report(SolverReport& out, const std::string& solve, uint64_t steps, int cap, double tolerance) const {
+    const double n = std::max<double>(1.0, double(steps));
+    out.add(solve + ".mean_iterations", double(iterations) / n);
+    out.add(solve + ".max_iterations", maxIterations);
+    out.add(solve + ".cap", cap);
+    out.add(solve + ".cap_hits", capHits);
+    out.add(solve + ".final_error", lastError);
+    out.add(solve + ".mean_final_error", sumError / n);
+    out.add(solve + ".max_final_error", maxError);
+    out.add(solve + ".tolerance", tolerance);
+  }
+};
+
 // Telescopic body particles torn (their rest density below a quarter of its initial value,
 // BodySystem::kTornDensityRatio) and so left out of a solver's unknowns: the steps that had any and
 // the most at once (run.json's torn_body_particles, and a warning).

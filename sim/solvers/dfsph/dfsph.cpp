@@ -88,36 +88,24 @@ void DfsphSolver::hydrostaticHead(const std::vector<float>& headById) {
 
 SolverCounters DfsphSolver::counters() const {
   return {stats_.steps,
-          {{"density", stats_.densityIterations, stats_.densityCapHits},
-           {"divergence", stats_.divergenceIterations, stats_.divergenceCapHits}}};
+          {{"density", stats_.density.iterations, stats_.density.capHits},
+           {"divergence", stats_.divergence.iterations, stats_.divergence.capHits}}};
 }
 
 void DfsphSolver::report(SolverReport& out) const {
-  const double steps = std::max<double>(1.0, double(stats_.steps));
-  out.add("density_solve.mean_iterations", double(stats_.densityIterations) / steps);
-  out.add("density_solve.max_iterations", stats_.maxDensityIterations);
-  out.add("density_solve.cap", params_.maxIterations);
-  out.add("density_solve.cap_hits", stats_.densityCapHits);
-  out.add("density_solve.final_error", stats_.lastDensityError);
-  out.add("density_solve.mean_final_error", stats_.sumDensityError / steps);
-  out.add("density_solve.max_final_error", stats_.maxDensityError);
-  out.add("density_solve.tolerance", 0.01 * params_.maxDensityError);
+  stats_.density.report(out, "density_solve", stats_.steps, params_.maxIterations, 0.01 * params_.maxDensityError);
   out.add("divergence_solve.method", params_.divergenceSolve == DivergenceSolve::Jacobi ? "jacobi" : "cg");
-  out.add("divergence_solve.mean_iterations", double(stats_.divergenceIterations) / steps);
-  out.add("divergence_solve.max_iterations", stats_.maxDivergenceIterations);
-  out.add("divergence_solve.cap", params_.maxDivergenceIterations);
-  out.add("divergence_solve.cap_hits", stats_.divergenceCapHits);
-  out.add("divergence_solve.final_error", stats_.lastDivergenceError);
-  out.add("divergence_solve.tolerance", 0.01 * params_.maxDivergenceError);
+  stats_.divergence.report(out, "divergence_solve", stats_.steps, params_.maxDivergenceIterations,
+                           0.01 * params_.maxDivergenceError);
   stats_.torn.report(out);
 }
 
 std::vector<SolverWarning> DfsphSolver::warnings() const {
   std::vector<SolverWarning> w;
   stats_.torn.warn(w, name(), stats_.steps);
-  if (stats_.densityCapHits || stats_.divergenceCapHits)
-    w.push_back({"the dfsph solver stopped at its iteration cap in " + std::to_string(stats_.densityCapHits) +
-                     " density and " + std::to_string(stats_.divergenceCapHits) + " divergence solves of " +
+  if (stats_.density.capHits || stats_.divergence.capHits)
+    w.push_back({"the dfsph solver stopped at its iteration cap in " + std::to_string(stats_.density.capHits) +
+                     " density and " + std::to_string(stats_.divergence.capHits) + " divergence solves of " +
                      std::to_string(stats_.steps) + " steps (fluid.max_iterations " +
                      std::to_string(params_.maxIterations) + ", fluid.max_divergence_iterations " +
                      std::to_string(params_.maxDivergenceIterations) +
@@ -245,6 +233,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   if (maxDivergenceIterations_ <= 0 || !(c.lastStep > 0.0f) || n == 0) return;
   int iterations = 0;
   double error = 0.0;
+  bool capped = false;
   // Warm start (header): a share of each fluid particle's q of the previous step, by id.
   const float share =
       divergenceSolve_ == DivergenceSolve::ConjugateGradient ? kCgDivergenceWarmStart : kDivergenceWarmStart;
@@ -254,7 +243,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     return qSum_[i] != 0.0f ? 1.0 : 0.0;
   }) > 0.0;
   if (warm) applyPressure(c, qSum_.data(), 1.0f, velocity_.data());
-  if (divergenceSolve_ == DivergenceSolve::ConjugateGradient) iterations = divergenceCg(c, error);
+  if (divergenceSolve_ == DivergenceSolve::ConjugateGradient) iterations = divergenceCg(c, error, capped);
   else for (;;) {
     densityRate(c, velocity_.data());
     const double sum = orderedSum(n, [&](size_t i) {
@@ -270,7 +259,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     });
     error = sum / double(n) * c.lastStep;
     if (error <= maxDivergenceError_) break;
-    if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
+    if (iterations >= maxDivergenceIterations_) { capped = true; break; }
     if (c.stopRequested()) break;
     applyPressure(c, change_.data(), 1.0f, velocity_.data());  // q = dt pi^v: the step cancels (2017, eq. 16)
     forEach(n, [&](size_t i) { qSum_[i] += change_[i]; });
@@ -279,12 +268,10 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   storeVelocities(p);
   forEach(n, [&](size_t i) { qSum_[i] /= unit(p, i); });
   storeById(p, qSum_, qById_);
-  stats_.divergenceIterations += uint64_t(iterations);
-  stats_.maxDivergenceIterations = std::max(stats_.maxDivergenceIterations, iterations);
-  stats_.lastDivergenceError = error;
+  stats_.divergence.record(iterations, error, capped);
 }
 
-int DfsphSolver::divergenceCg(const SolverContext& c, double& error) {
+int DfsphSolver::divergenceCg(const SolverContext& c, double& error, bool& capped) {
   ParticleSet& p = c.particles;
   const size_t n = p.size();
   residual_.resize(n);
@@ -309,7 +296,7 @@ int DfsphSolver::divergenceCg(const SolverContext& c, double& error) {
   double rz = orderedSum(n, [&](size_t i) { return double(weight_[i]) * residual_[i] * change_[i]; });
   int iterations = 0;
   while (error > maxDivergenceError_) {
-    if (iterations >= maxDivergenceIterations_) { ++stats_.divergenceCapHits; break; }
+    if (iterations >= maxDivergenceIterations_) { capped = true; break; }
     if (c.stopRequested()) break;
     // A d: the density rate of the velocities -P d (scratch_), negated, on the unknowns' set.
     tbb::parallel_for(size_t(0), n, [&](size_t i) { scratch_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f}; });
@@ -482,6 +469,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
   const float invDt2 = 1.0f / (dt * dt);
   int iterations = 0;
   double error = 0.0;
+  bool capped = false;
   for (;;) {
     densityRate(c, velocity_.data());
     const double sum = orderedSum(n, [&](size_t i) {
@@ -496,7 +484,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     });
     error = sum / double(n);
     if (iterations >= kMinDensityIterations && error <= maxDensityError_) break;
-    if (iterations >= maxIterations_) { ++stats_.densityCapHits; break; }
+    if (iterations >= maxIterations_) { capped = true; break; }
     if (c.stopRequested()) break;
     applyPressure(c, change_.data(), dt, velocity_.data());
     forEach(n, [&](size_t i) { pi_[i] += change_[i]; });
@@ -513,11 +501,7 @@ void DfsphSolver::correctVelocities(const SolverContext& c, float dt) {
     p.pressure[i] = (pi_[i] + qSum_[i] * invQStep) * p.density[i] * p.density[i];
   });
   storeById(p, pi_, piById_);
-  stats_.densityIterations += uint64_t(iterations);
-  stats_.maxDensityIterations = std::max(stats_.maxDensityIterations, iterations);
-  stats_.lastDensityError = error;
-  stats_.maxDensityError = std::max(stats_.maxDensityError, error);
-  stats_.sumDensityError += error;
+  stats_.density.record(iterations, error, capped);
 }
 
 void DfsphSolver::wetWalls(const SolverContext& c, float dt) {

@@ -69,18 +69,10 @@ struct DfsphParams final : SolverParams {
 
 // What the solves did over the run (run.json's report; the checkpoint keeps it).
 struct DfsphStats {
-  uint64_t steps = 0;                     // steps the solver ran
-  uint64_t densityIterations = 0;         // summed over steps
-  uint64_t divergenceIterations = 0;
-  int maxDensityIterations = 0;           // largest in one step
-  int maxDivergenceIterations = 0;
-  uint64_t densityCapHits = 0;            // steps that stopped at the iteration cap
-  uint64_t divergenceCapHits = 0;
-  double lastDensityError = 0.0;          // the last step's final mean error, fraction of rho0
-  double lastDivergenceError = 0.0;
-  double maxDensityError = 0.0;           // largest final mean density error of any step
-  double sumDensityError = 0.0;           // summed over steps (mean = sum / steps)
-  solvers::TornCount torn;                // torn body particles left out (SolverContext::unsolved)
+  uint64_t steps = 0;           // steps the solver ran
+  solvers::SolveStats density;  // the constant-density solve
+  solvers::SolveStats divergence;
+  solvers::TornCount torn;      // torn body particles left out (SolverContext::unsolved)
 };
 
 class DfsphSolver final : public PressureSolver {
@@ -125,8 +117,8 @@ private:
   // (k_i L_i + k_j L_j with the gradient correction; header).
   void applyPressure(const SolverContext& c, const float* k, float scale, Float4* v);
   // The divergence solve by conjugate gradients (header), from the warm-started velocity_; adds
-  // the unknowns to qSum_; returns the iterations and sets `error`.
-  int divergenceCg(const SolverContext& c, double& error);
+  // the unknowns to qSum_; returns the iterations and sets `error` (and `capped` at the cap).
+  int divergenceCg(const SolverContext& c, double& error, bool& capped);
   // solvers::orderedSum with partial_.
   template <class F>
   double orderedSum(size_t count, F&& f);

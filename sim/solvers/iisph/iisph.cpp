@@ -155,6 +155,7 @@ void IisphSolver::correctVelocities(const SolverContext& c, float dt) {
   const float dt2 = dt * dt, invDt2 = 1.0f / dt2;
   int iterations = 0;
   double error = 0.0;
+  bool capped = false;
   for (;;) {
     accelerate(c, k_.data());
     densityRate(c, acceleration_.data());
@@ -167,7 +168,7 @@ void IisphSolver::correctVelocities(const SolverContext& c, float dt) {
     });
     error = sum / double(n);
     if (iterations >= kMinIterations && error <= 0.01 * double(params_.maxDensityError)) break;
-    if (iterations >= params_.maxIterations) { ++stats_.capHits; break; }
+    if (iterations >= params_.maxIterations) { capped = true; break; }
     if (c.stopRequested()) break;
     std::swap(k_, next_);
     ++iterations;
@@ -184,25 +185,13 @@ void IisphSolver::correctVelocities(const SolverContext& c, float dt) {
     next_[i] = warm * pi;
   });
   solvers::storeById(p, next_, warmById_);
-  stats_.iterations += uint64_t(iterations);
-  stats_.maxIterations = std::max(stats_.maxIterations, iterations);
-  stats_.lastError = error;
-  stats_.maxError = std::max(stats_.maxError, error);
-  stats_.sumError += error;
+  stats_.density.record(iterations, error, capped);
 }
 
-SolverCounters IisphSolver::counters() const { return {stats_.steps, {{"density", stats_.iterations, stats_.capHits}}}; }
+SolverCounters IisphSolver::counters() const { return {stats_.steps, {{"density", stats_.density.iterations, stats_.density.capHits}}}; }
 
 void IisphSolver::report(SolverReport& out) const {
-  const double steps = std::max<double>(1.0, double(stats_.steps));
-  out.add("density_solve.mean_iterations", double(stats_.iterations) / steps);
-  out.add("density_solve.max_iterations", stats_.maxIterations);
-  out.add("density_solve.cap", params_.maxIterations);
-  out.add("density_solve.cap_hits", stats_.capHits);
-  out.add("density_solve.final_error", stats_.lastError);
-  out.add("density_solve.mean_final_error", stats_.sumError / steps);
-  out.add("density_solve.max_final_error", stats_.maxError);
-  out.add("density_solve.tolerance", 0.01 * params_.maxDensityError);
+  stats_.density.report(out, "density_solve", stats_.steps, params_.maxIterations, 0.01 * params_.maxDensityError);
   out.add("density_solve.relaxation", double(params_.relaxation));
   out.add("density_solve.warm_start", double(params_.warmStart));
   stats_.torn.report(out);
@@ -211,8 +200,8 @@ void IisphSolver::report(SolverReport& out) const {
 std::vector<SolverWarning> IisphSolver::warnings() const {
   std::vector<SolverWarning> w;
   stats_.torn.warn(w, name(), stats_.steps);
-  if (stats_.capHits)
-    w.push_back({"the iisph solver stopped at its iteration cap in " + std::to_string(stats_.capHits) + " of " +
+  if (stats_.density.capHits)
+    w.push_back({"the iisph solver stopped at its iteration cap in " + std::to_string(stats_.density.capHits) + " of " +
                      std::to_string(stats_.steps) + " steps (fluid.max_iterations " +
                      std::to_string(params_.maxIterations) + "): the density error there is above the tolerance",
                  ""});

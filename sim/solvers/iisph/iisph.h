@@ -61,12 +61,7 @@ struct IisphParams final : SolverParams {
 // What the solve did over the run (run.json's report; the checkpoint keeps it).
 struct IisphStats {
   uint64_t steps = 0;
-  uint64_t iterations = 0;  // summed over steps
-  int maxIterations = 0;    // largest in one step
-  uint64_t capHits = 0;     // steps that stopped at the iteration cap
-  double lastError = 0.0;   // the last step's final mean residual, fraction of rho0
-  double maxError = 0.0;
-  double sumError = 0.0;
+  solvers::SolveStats density;
   solvers::TornCount torn;
 };
 
