@@ -1,5 +1,7 @@
 #include "sim/fluid.h"
 
+#include "sim/solvers/sweeps.h"
+
 #include <Eigen/LU>
 #include <immintrin.h>
 #include <tbb/blocked_range.h>
@@ -21,54 +23,6 @@ namespace {
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = int __attribute__((vector_size(16)));
 #endif
-
-// Appends the candidates j in [first, last) within sqrt(h2) of (xi, yi, zi), other than `self`,
-// to out from index `found`, without a branch: every candidate is written and the count advances
-// only for a neighbour. Returns the new count. Four candidates at a time where SSE2 is available:
-// their r^2 in one register (the same operations in the same order as the scalar loop, so the
-// same floats; with KURAGE_NATIVE's FMA the compiler may contract the two differently), the
-// neighbours' indices among them packed to the front through a table and all four written with
-// one store (out has room for every candidate); the list is the scalar loop's, in the same order.
-// Every group is written, none skipped: a branch on an empty group (most are: about 27 of 216
-// candidates are neighbours) is predictable only while the particles stand on their starting
-// lattice, not once they have moved.
-inline size_t sift(const float* __restrict x, const float* __restrict y, const float* __restrict z, float xi,
-                   float yi, float zi, float h2, uint32_t self, uint32_t first, uint32_t last,
-                   uint32_t* __restrict out, size_t found) {
-  uint32_t j = first;
-#if defined(__SSE2__)
-  // kPack[m]: the lanes set in the 4-bit mask m, first, in order
-  alignas(16) static constexpr int kPack[16][4] = {{0, 1, 2, 3}, {0, 1, 2, 3}, {1, 0, 2, 3}, {0, 1, 2, 3}, {2, 0, 1, 3}, {0, 2, 1, 3},
-                                                   {1, 2, 0, 3}, {0, 1, 2, 3}, {3, 0, 1, 2}, {0, 3, 1, 2}, {1, 3, 0, 2}, {0, 1, 3, 2},
-                                                   {2, 3, 0, 1}, {0, 2, 3, 1}, {1, 2, 3, 0}, {0, 1, 2, 3}};
-  // kCount[m]: the lanes set in m (std::popcount calls libgcc without -mpopcnt: 1 % of a step)
-  static constexpr uint8_t kCount[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-  const Float4 X = {xi, xi, xi, xi}, Y = {yi, yi, yi, yi}, Z = {zi, zi, zi, zi}, H2 = {h2, h2, h2, h2};
-  for (; j + 4 <= last; j += 4) {
-    Float4 px, py, pz;
-    std::memcpy(&px, x + j, sizeof px);
-    std::memcpy(&py, y + j, sizeof py);
-    std::memcpy(&pz, z + j, sizeof pz);
-    const Float4 dx = px - X, dy = py - Y, dz = pz - Z;
-    const Float4 r2 = dx * dx + dy * dy + dz * dz;
-    const Int4 inside = r2 < H2;
-    unsigned mask = unsigned(__builtin_ia32_movmskps(Float4(inside)));
-    if (self - j < 4u) mask &= ~(1u << (self - j));
-    Int4 lanes;
-    std::memcpy(&lanes, kPack[mask], sizeof lanes);
-    const Int4 indices = lanes + int(j);
-    std::memcpy(out + found, &indices, sizeof indices);
-    found += size_t(kCount[mask]);
-  }
-#endif
-  for (; j < last; ++j) {
-    const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;
-    const float r2 = dx * dx + dy * dy + dz * dz;
-    out[found] = j;
-    found += size_t((r2 < h2) & (j != self));
-  }
-  return found;
-}
 
 #if defined(__SSE2__)
 // The cubic spline's W(r) and W'(r) / r (0 at r <= 1e-6 h) for the four neighbours whose r^2 bits
@@ -110,6 +64,7 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
   const float h2 = kernel.h2;
   const std::vector<uint32_t>& cells = grid.cellOfSorted();
   neighbors.resize(count);
+  const auto sift = solvers::sweepTable().sift;  // KURAGE_SIMD's (sweeps.h)
   // One task per chunk of particles: the chunk's neighbour buffer is filled in particle order.
   tbb::parallel_for(size_t(0), neighbors.chunkCount(), [&](size_t c) {
     std::vector<uint32_t>& buffer = neighbors.chunk(c);
@@ -130,15 +85,14 @@ void densityPass(const NeighborGrid& grid, ParticleSet& particles, const Kernel&
       auto weight = [&](uint32_t j) { return Form == DensitySum::Mass ? m[j] : m[j] / rho0[j]; };
       // the particle itself, r = 0
       float sum = isPoly6 ? weight(uint32_t(i)) * h2 * h2 * h2 : weight(uint32_t(i)) * kernel.fromSquared(0.0f);
-      // First the candidates are sifted (sift(): every one is written, the count advances only
-      // for a neighbour), then the neighbours' weights are summed in order (the same sum as in one
-      // pass with a branch per candidate, without the branch's mispredictions, for either
-      // kernel). Their r^2 is kept on the stack, unless there are
-      // unusually many (a scratch buffer per chunk then).
+      // First the candidates are sifted (SweepTable::sift: every one is written, the count advances
+      // only for a neighbour), then the neighbours' weights are summed in order (the same sum as in
+      // one pass with a branch per candidate, without the branch's mispredictions, for either
+      // kernel). Their r^2 is kept on the stack, unless there are unusually many (a scratch buffer
+      // per chunk then).
       if (candidates > local.size() && overflow.size() < candidates) overflow.resize(candidates);
       uint32_t* d2 = candidates > local.size() ? overflow.data() : local.data();
-      for (int r = 0; r < n; ++r)
-        found = sift(x, y, z, xi, yi, zi, h2, uint32_t(i), ranges[r][0], ranges[r][1], out, found);
+      found = sift(x, y, z, xi, yi, zi, h2, uint32_t(i), ranges.data(), n, out);
       for (size_t k = 0; k < found; ++k) {  // the neighbours' r^2 again: the sift's floats
         const uint32_t j = out[k];
         const float dx = x[j] - xi, dy = y[j] - yi, dz = z[j] - zi;

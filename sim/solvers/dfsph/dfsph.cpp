@@ -48,7 +48,8 @@ DfsphSolver::DfsphSolver(const FluidParams& fluid)
     : params_(fluid.solver.as<DfsphParams>()), restDensity_(fluid.restDensity), kernel_(fluid.supportRadiusMetres()),
       form_(fluid.densitySum), maxDensityError_(0.01f * params_.maxDensityError),
       maxDivergenceError_(0.01f * params_.maxDivergenceError), maxIterations_(params_.maxIterations),
-      maxDivergenceIterations_(params_.maxDivergenceIterations), divergenceSolve_(params_.divergenceSolve) {
+      maxDivergenceIterations_(params_.maxDivergenceIterations), divergenceSolve_(params_.divergenceSolve),
+      sweeps_(solvers::sweepTable()), scalarSums_(sweeps_.isa == solvers::SweepIsa::Scalar) {
   if (fluid.kernel == SphKernel::Mueller2003)
     throw std::invalid_argument("dfsph: its solves use the cubic spline kernel, not the paper's poly6 and spiky");
   latticeNeighbours_ = solvers::relaxedNeighbours(fluid.supportRadius);
@@ -98,6 +99,7 @@ void DfsphSolver::report(SolverReport& out) const {
   stats_.divergence.report(out, "divergence_solve", stats_.steps, params_.maxDivergenceIterations,
                            0.01 * params_.maxDivergenceError);
   stats_.torn.report(out);
+  out.add("simd_path", sweeps_.name);  // the sweeps' floats are the path's (solvers/sweeps.h)
 }
 
 std::vector<SolverWarning> DfsphSolver::warnings() const {
@@ -175,22 +177,18 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     assert(g.size() == c.neighbors.chunkSize(ch));
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
-      const float xi = p.x[i], yi = p.y[i], zi = p.z[i], rho0i = p.restDensity[i];
+      const float rho0i = p.restDensity[i];
       Eigen::Vector3f gb = Eigen::Vector3f::Zero();
       if (c.boundaryGradient) gb = wallWeight(p, i) * Eigen::Vector3f(c.boundaryGradient + 3 * i);
       Eigen::Vector3f F = kMirror * gb;  // mirrored wall: see the header
       float S = 0.0f;
       const float* slope = g.data() + c.neighbors.offset(i);
       if (!corrected_) {
-        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
-          const uint32_t j = *it;
-          const float dx = xi - p.x[j], dy = yi - p.y[j], dz = zi - p.z[j];
-          const float s = *slope;
-          const Eigen::Vector3f grad(s * dx, s * dy, s * dz);
-          const float w = position_[j][3];  // m_j, or V_j (mirrored for a boundary body's sample)
-          F += w * grad;
-          S += response_[j] * grad.squaredNorm();
-        }
+        // sum_j w_j grad W_ij (w_j mirrored for a boundary body's sample) and sum_j c_j |grad W_ij|^2
+        Float4 F4 = {F.x(), F.y(), F.z(), 0.0f};
+        sweeps_.factor(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(), response_.data(),
+                       position_[i], F4, S);
+        F = Eigen::Vector3f(F4[0], F4[1], F4[2]);
       } else {
         // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
         // plain one (L_i = I within h of a wall).
@@ -348,8 +346,12 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
       // per pair cost about 10 % of a step).
       float rate;
       if (!corrected_) {
-        const Float4 sum = solvers::rateSum(c.neighbors.begin(i), c.neighbors.end(i), s, x, v, xi, vi);
-        rate = sum[0] + sum[1] + sum[2];
+        if (scalarSums_) {  // inline: a call a particle cost the scalar path a few % of a step
+          const Float4 sum = solvers::rateSum(c.neighbors.begin(i), c.neighbors.end(i), s, x, v, xi, vi);
+          rate = sum[0] + sum[1] + sum[2];
+        } else {
+          rate = sweeps_.rate(c.neighbors.begin(i), c.neighbors.end(i), s, x, v, xi, vi);
+        }
       } else {
         // sum_j w_j (v_i - v_j) . L_i grad W_ij = sum_a L_i,a . T_a, T_a = sum_j w_j (v_i - v_j)_a grad W_ij
         Float4 t0 = {0.0f, 0.0f, 0.0f, 0.0f}, t1 = t0, t2 = t0;
@@ -397,7 +399,9 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       const float* sp = s0 + c.neighbors.offset(i);
       Float4 a = {0.0f, 0.0f, 0.0f, 0.0f};
       if (!corrected_) {
-        a = solvers::pushSum(c.neighbors.begin(i), c.neighbors.end(i), sp, x, k, xi, ki);  // w_j (k_i + k_j) grad W_ij
+        // w_j (k_i + k_j) grad W_ij
+        a = scalarSums_ ? solvers::pushSum(c.neighbors.begin(i), c.neighbors.end(i), sp, x, k, xi, ki)
+                        : sweeps_.push(c.neighbors.begin(i), c.neighbors.end(i), sp, x, k, xi, ki);
       } else {
         // w_j (k_i L_i + k_j L_j) grad W_ij: the transpose of the corrected density rate (header).
         // The neighbours' part, sum_j s_ij w_j k_j L_j (x_i - x_j) = M_i x_i - Y_i with

@@ -33,7 +33,9 @@
 // spread over its spring patch (linear momentum kept; the factor's own term an approximation).
 // Units: k in m^5/(kg s^2) ("mass") or Pa ("volume"); the particles' pressure is what both solves
 // applied, p_i = (k_i + q_i / dt_last) rho_i^2 (/ rho0_i^2 with "volume"), Pa. Kernel: the cubic
-// spline, its W'(r)/r per pair from the density pass. Sums reduce per chunk, then in order: the
+// spline, its W'(r)/r per pair from the density pass. The neighbour sums of the rate, the push and
+// the factor (without the gradient correction) are solvers/sweeps.h's: scalar, or 8 or 16
+// neighbours at a time under KURAGE_SIMD=avx2|avx512. Sums reduce per chunk, then in order: the
 // result does not depend on the thread count. Limits: boundary coupling needs density_sum "volume"
 // and the Jacobi divergence solve; a still tank keeps some unrest at the default tolerances
 // (docs/design/physics.md); a telescopic membrane solved as unknowns tears where it stretches.
@@ -41,6 +43,7 @@
 
 #include "sim/solvers/pressure_solver.h"
 #include "sim/solvers/solver_common.h"
+#include "sim/solvers/sweeps.h"
 
 namespace kurage::sim {
 
@@ -130,6 +133,8 @@ private:
   float maxDensityError_, maxDivergenceError_;  // fractions
   int maxIterations_, maxDivergenceIterations_;
   DivergenceSolve divergenceSolve_;
+  const solvers::SweepTable& sweeps_;  // the sweeps' neighbour sums (sweeps.h)
+  bool scalarSums_;                    // its sums are the scalar path's: called inline
   // During the solves (positions do not move, velocities are the unknowns' image): per particle
   // (x, y, z, w_j), w_j the density rate's weight (m_j, or m_j / rho0_j for density_sum
   // "volume"), and (vx, vy, vz, 0); written back to the particles after each solve.

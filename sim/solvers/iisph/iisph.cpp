@@ -36,7 +36,8 @@ std::optional<ParamProblem> IisphParams::problem(const FluidParams& fluid) const
 
 IisphSolver::IisphSolver(const FluidParams& fluid)
     : params_(fluid.solver.as<IisphParams>()), restDensity_(fluid.restDensity), form_(fluid.densitySum),
-      kernel_(fluid.supportRadiusMetres()), neighbourBound_(solvers::relaxedNeighbours(fluid.supportRadius)) {
+      kernel_(fluid.supportRadiusMetres()), neighbourBound_(solvers::relaxedNeighbours(fluid.supportRadius)),
+      sweeps_(solvers::sweepTable()) {
   if (const std::optional<ParamProblem> problem = params_.problem(fluid))
     throw std::invalid_argument(problem->key + ": " + problem->message);
 }
@@ -98,9 +99,7 @@ void IisphSolver::afterDensity(const SolverContext& c) {
 void IisphSolver::densityRate(const SolverContext& c, const Float4* v) {
   const ParticleSet& p = c.particles;
   solvers::forEachWithSlopes(c.neighbors, p.size(), [&](size_t i, const float* slope) {
-    const Float4 sum =
-        solvers::rateSum(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(), v, position_[i], v[i]);
-    float rate = sum[0] + sum[1] + sum[2];
+    float rate = sweeps_.rate(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(), v, position_[i], v[i]);
     if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
     if (c.boundaryGradient) {
       const float* gb = c.boundaryGradient + 3 * i;
@@ -117,7 +116,7 @@ void IisphSolver::accelerate(const SolverContext& c, const float* k) {
       acceleration_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f};
       return;
     }
-    Float4 a = solvers::pushSum(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(), k, position_[i], k[i]);
+    Float4 a = sweeps_.push(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(), k, position_[i], k[i]);
     if (c.boundaryGradient) {
       const float* gb = c.boundaryGradient + 3 * i;
       const float s = kMirror * wallWeight(p, i) * k[i];
@@ -195,6 +194,7 @@ void IisphSolver::report(SolverReport& out) const {
   out.add("density_solve.relaxation", double(params_.relaxation));
   out.add("density_solve.warm_start", double(params_.warmStart));
   stats_.torn.report(out);
+  out.add("simd_path", sweeps_.name);  // the sweeps' floats are the path's (solvers/sweeps.h)
 }
 
 std::vector<SolverWarning> IisphSolver::warnings() const {

@@ -40,6 +40,7 @@
 
 #include "sim/solvers/pressure_solver.h"
 #include "sim/solvers/solver_common.h"
+#include "sim/solvers/sweeps.h"
 
 namespace kurage::sim {
 
@@ -101,6 +102,7 @@ private:
   DensitySum form_;
   CubicSplineKernel kernel_;
   float neighbourBound_;            // solvers::relaxedNeighbours
+  const solvers::SweepTable& sweeps_;  // the sweeps' neighbour sums (sweeps.h)
   std::vector<Float4> position_;    // (x, y, z, w_j)
   std::vector<Float4> velocity_;    // v* during the solve
   std::vector<Float4> acceleration_;  // (I1)

@@ -1,0 +1,70 @@
+// The neighbour sums of the pressure solvers' sweeps (dfsph/, iisph/), one particle i a call, over
+// its neighbour list [begin, end) with the density pass's s_ij = W'(r_ij)/r_ij alongside
+// (NeighborLists::slopes), on the solvers' packed data: x_j = (x, y, z, w_j), v_j = (vx, vy, vz, 0):
+//   rate:   sum_j w_j (v_i - v_j) . s_ij (x_i - x_j)              the density rate's sum (DFSPH 2017, eq. 9)
+//   push:   sum_j s_ij w_j (k_i + k_j) (x_i - x_j)                the symmetric pressure push (eq. 7; lane 3 0)
+//   factor: F += sum_j w_j s_ij (x_i - x_j),
+//           S += sum_j c_j |s_ij (x_i - x_j)|^2                   the factor's two sums (eq. 13)
+// and the density pass's neighbour search (fluid.cpp), `sift`: of the candidates in the grid's
+// index ranges, those j != i with |x_i - x_j|^2 < h^2, appended in index order (every path finds
+// the same list: the same r^2 floats, no FMA).
+// (factor: DFSPH's factor pass; IISPH's keeps its own loop, whose squares add in another order.)
+// Paths, one table each, chosen once per solver (and per density pass) by sweepTable():
+//   scalar: one neighbour at a time, a Float4 per pair (any x86-64; the floats of solvers::rateSum
+//           and pushSum, in list order); the sift 4 candidates at a time (SSE2).
+//   avx2:   8 neighbours at a time (AVX2 + FMA): their records loaded 128 bits each and transposed
+//           in registers to x, y, z, w lanes; k_j and c_j gathered; the list's tail in masked lanes
+//           (slope 0, a duplicate index: they add +-0).
+//   avx512: the same, 16 neighbours at a time (AVX-512F); the sift 16 candidates at a time, the
+//           neighbours' indices compressed to the list with one masked store.
+// Each path's sum for a particle is in a fixed order (per lane, then a fixed tree across lanes): a
+// run does not depend on the thread count on any path. The SIMD paths contract to FMA and add in
+// another order than the scalar one: their floats differ from it by rounding (a few ulp of a
+// sum's largest term). KURAGE_SIMD=scalar|avx2|avx512 in the environment asks for a path (one the
+// CPU runs; another value is an error). Unset: the scalar path. On the 2-core machine measured
+// (docs/notebook/simulation-speed.md) the SIMD sums, bound by loading and transposing each
+// neighbour's records, ran no faster than the scalar ones, and the AVX-512 sift, though faster
+// itself, left the rest of a step slower: the SIMD paths are asked for, not assumed.
+#pragma once
+
+#include "sim/solvers/solver_common.h"
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace kurage::sim::solvers {
+
+enum class SweepIsa { Scalar, Avx2, Avx512 };
+
+struct SweepTable {
+  SweepIsa isa;
+  const char* name;  // "scalar", "avx2", "avx512"
+  float (*rate)(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x, const Float4* v,
+                Float4 xi, Float4 vi);
+  Float4 (*push)(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x, const float* k,
+                 Float4 xi, float ki);
+  void (*factor)(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x,
+                 const float* response, Float4 xi, Float4& F, float& S);
+  // Writes the neighbours among `rangeCount` candidate ranges [first, last) to out (room for every
+  // candidate; past the count it may write anything) and returns their count.
+  size_t (*sift)(const float* x, const float* y, const float* z, float xi, float yi, float zi, float h2,
+                 uint32_t self, const std::array<uint32_t, 2>* ranges, int rangeCount, uint32_t* out);
+};
+
+// Whether this CPU (and its OS) runs a path.
+bool sweepSupported(SweepIsa isa);
+// The table of a path this CPU runs (tests compare paths); the solvers' (above: KURAGE_SIMD's, or
+// the scalar path; std::invalid_argument for an unknown or unsupported name).
+const SweepTable& sweepTable(SweepIsa isa);
+const SweepTable& sweepTable();
+
+namespace detail {  // the ISA translation units' tables (sweeps_avx2.cpp, sweeps_avx512.cpp)
+size_t siftFour(const float* x, const float* y, const float* z, float xi, float yi, float zi, float h2, uint32_t self,
+                const std::array<uint32_t, 2>* ranges, int rangeCount, uint32_t* out);
+const SweepTable& avx2Table();
+const SweepTable& avx512Table();
+}  // namespace detail
+
+}  // namespace kurage::sim::solvers
