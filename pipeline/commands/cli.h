@@ -80,5 +80,6 @@ int benchSurface(ArgParser& args);  // pipeline/commands/cmd_bench_surface.cpp
 int commandFarm(std::vector<std::string> args);   // pipeline/commands/cmd_farm.cpp
 int commandStudy(std::vector<std::string> args);  // pipeline/commands/cmd_study.cpp
 int commandReport(std::vector<std::string> args);  // pipeline/commands/cmd_report.cpp
+int commandFigures(std::vector<std::string> args);  // pipeline/commands/cmd_figures.cpp
 
 }  // namespace kurage::pipeline

@@ -28,6 +28,7 @@ constexpr const char* kUsage =
     "  still SCENE --time T -o FILE.png   one path-traced frame at any time and resolution\n"
     "  study STUDY -o OUT    accuracy against cost: a sweep of scene knobs, OUT/study.csv, .png, .md\n"
     "  report OUT            OUT/report.html: the run as a page (run and the stages write it too)\n"
+    "  figures DIR           the paper's Figs. 2, 3 and 5 from its three experiments, into DIR\n"
     "  check SCENE           validate a scene file and exit\n"
     "  schema                print the JSON Schema of scene files\n"
     "  bench sim             simulation throughput (particle-steps per second)\n"
@@ -57,6 +58,7 @@ int dispatch(const std::string& command, std::vector<std::string> args) {
   if (command == "farm") return commandFarm(std::move(args));
   if (command == "study") return commandStudy(std::move(args));
   if (command == "report") return commandReport(std::move(args));
+  if (command == "figures") return commandFigures(std::move(args));
   throw UsageError("unknown command " + command);
 }
 
