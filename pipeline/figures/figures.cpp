@@ -299,7 +299,10 @@ nlohmann::json figure5(const FigureOptions& o, const Level& level, std::vector<f
     }
   lo.y() = hi.y() = bell.y();
   const float fov = 45.0f;
-  const FramedView view = frameFromFront(lo, hi, float(level.jellyfish.x()) / float(level.jellyfish.y()), fov);
+  FramedView view = frameFromFront(lo, hi, float(level.jellyfish.x()) / float(level.jellyfish.y()), fov);
+  // The eye level with the jet, 1 m below the nozzle, so that it sees the falling stream through
+  // air above the water's front face, not through the water from below.
+  if (!pouring.is_null()) view.position.z() = std::max(view.position.z(), float(pouring["position"][2]) - 1.0f);
   scene.render.cameraKeys.clear();
   scene.render.camera.position = view.position;
   scene.render.camera.lookAt = view.lookAt;
