@@ -26,7 +26,7 @@ RunEstimate estimateRun(const RunSize& size, const MachineSpeed& speed) {
   RunEstimate e;
   e.steps = std::max(0.0, size.frames - 1.0) * stepsPerFrame(size.frameInterval, size.step);
   const double scale = double(speed.threads) / double(std::max(1, size.threads));
-  const auto at = [&e, scale](Stage s) -> double& { return e.seconds[size_t(s)]; };
+  const auto at = [&e](Stage s) -> double& { return e.seconds[size_t(s)]; };
   at(Stage::Sim) = scale * size.particles * e.steps * speed.simSecondsPerParticleStep;
   at(Stage::Surface) = scale * size.frames * speed.surfaceSecondsPerBlobVoxel *
                        (size.blobVoxels + speed.anisotropicSurfaceFactor * size.anisotropicBlobVoxels);
