@@ -192,18 +192,19 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthThroughThePoursKeepingItsShapeAnd
   EXPECT_EQ(s.solver().counters().capHits(), uint64_t(0)) << "a DFSPH solve stopped at its iteration cap";
 }
 
-// The control: the same scene without the ring muscle's pulses sinks (its bell is heavier than
-// water, 1.17 on average), over the same ten periods.
+// The control: the same bell without the ring muscle's pulses, in the same tank without the
+// faucets, sinks (it is heavier than water, 1.17 on average): at least 0.3 m in three periods.
 TEST(Jellyfish, TheSameBellUnpulsedSinks) {
   pipeline::Scene scene = jellyfishScene();
   sim::SimParams& p = scene.sim;
   const sim::ForceCurve pulse = p.bodies.at(0).muscles.at(0).force;
   p.bodies[0].muscles.clear();
+  p.emitters.clear();  // still water: the control is the bell without its pulses, not the pours
   sim::Simulation s(p);
   const pipeline::ShellWall wall(p.bodies[0], 1, s.particles(), p.fluid.spacing);
   s.advanceTo(pulse.start);
   const double before = wall.apexHeight(s.particles());
-  s.advanceTo(pulse.start + 10.0 * pulse.period);
+  s.advanceTo(pulse.start + 3.0 * pulse.period);
   const double after = wall.apexHeight(s.particles());
-  EXPECT_LT(after, before - 0.1);
+  EXPECT_LT(after, before - 0.3);  // measured: 1.0 m in three periods (0.59 in two, 2.7 in ten)
 }
