@@ -497,6 +497,16 @@ inline const EnumTable<render::IntegratorType> kIntegrator{{"path", render::Inte
                                                        {"whitted", render::IntegratorType::Whitted}};
 
 template <class V>
+void describe(V& v, render::EdgeAdaptiveSettings& p) {
+  v.value("enabled", p.enabled,
+          {"", "first min_samples per pixel, then `samples` where a pixel and one of its four neighbours differ "
+               "(edges); off when min_samples >= samples"});
+  v.value("threshold", p.threshold,
+          {"", "difference (sRGB-encoded, 0..1, any channel) above which a pixel is sampled again", positive()});
+  v.value("min_samples", p.minSamples, {"", "sub-pixel samples of every pixel's first pass", between(1, 65536)});
+}
+
+template <class V>
 void describe(V& v, render::WhittedSettings& p) {
   v.value("sky_directions", p.skyDirections,
           {"", "shadow rays towards the sky per diffuse point (fixed cosine-distributed directions)", between(1, 1024)});
@@ -504,6 +514,7 @@ void describe(V& v, render::WhittedSettings& p) {
           {"", "points per side of the fixed grid on each area light", between(1, 64)});
   v.value("filter_textures", p.filterTextures,
           {"", "box-filter checker textures over the pixel's footprint (ray cones): far checkers average instead of aliasing"});
+  v.object("adaptive", p.adaptive, {"", "edge-adaptive anti-aliasing: more samples only where neighbours differ"});
 }
 
 template <class V>

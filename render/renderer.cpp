@@ -24,6 +24,8 @@ void checkSettings(const RenderScene& scene, const RenderSettings& settings) {
   if (settings.maxDepth < 1) throw std::invalid_argument("render: maxDepth must be >= 1");
   if (settings.whitted.skyDirections < 1 || settings.whitted.lightSamples < 1)
     throw std::invalid_argument("render: whitted skyDirections and lightSamples must be >= 1");
+  if (!(settings.whitted.adaptive.threshold > 0.0f) || settings.whitted.adaptive.minSamples < 1)
+    throw std::invalid_argument("render: whitted adaptive anti-aliasing needs threshold > 0 and minSamples >= 1");
   if (settings.adaptive.enabled &&
       !(settings.adaptive.relativeError > 0.0f && settings.adaptive.minSamples >= 2 &&
         settings.adaptive.maxSamples >= settings.adaptive.minSamples))
@@ -103,7 +105,8 @@ Image Renderer::render(const RenderScene& scene, const RenderSettings& settings,
   const bool denoising = settings.denoise.enabled && integrator->noisy();
   FeatureBuffers features;
   RayCounters counters;
-  Image image = renderImage(camera, *integrator, settings, counters, denoising ? &features : nullptr, d.stop);
+  Image image = renderImage(camera, *integrator, settings, counters, denoising ? &features : nullptr, d.stop,
+                            stats ? &stats->pixelSamples : nullptr);
   d.geometry->throwIfError("rendering");
   if (d.stop && d.stop()) throw RenderStopped();  // before the denoiser and the layers
   if (denoising)

@@ -26,6 +26,7 @@
 #include <functional>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 namespace kurage::render {
 
@@ -34,11 +35,26 @@ namespace kurage::render {
 // surfaces and no noise (integrators/whitted.cpp).
 enum class IntegratorType { Path, Whitted };
 
+// Edge-adaptive anti-aliasing (integrators without noise: whitted; render_loop.h): every pixel
+// first takes minSamples sub-pixel samples; a pixel whose value differs from one of its four
+// neighbours' by more than threshold in some channel (sRGB-encoded, clamped to [0, 1]; alpha with
+// a transparent background) is rendered again with samplesPerPixel samples, which replace its
+// first ones. Each pixel is then exactly the uniform render's pixel at minSamples or at
+// samplesPerPixel; uniform when minSamples >= samplesPerPixel. A pixel's own samples are no test:
+// whitted's samples differ in their sky directions as well as in their positions. Off by default
+// (what it gains on the jellyfish: docs/notebook/rendering.md).
+struct EdgeAdaptiveSettings {
+  bool enabled = false;
+  float threshold = 0.02f;  // > 0
+  int minSamples = 2;       // >= 1
+};
+
 struct WhittedSettings {
   int skyDirections = 16;  // shadow rays towards the sky per diffuse point, >= 1
   int lightSamples = 2;    // grid points per side on each area light, >= 1
   // checkers box-filtered over the pixel's ray-cone footprint (integrators/whitted.cpp)
   bool filterTextures = true;
+  EdgeAdaptiveSettings adaptive;
 };
 
 // Adaptive sampling (noisy integrators: path): every pixel takes minSamples paths, then more in
@@ -93,6 +109,7 @@ struct RenderStats {
   double seconds = 0.0;      // wall time of the frame, BVH builds included
   double buildSeconds = 0.0;  // of which building the BVHs (the static one only when rebuilt)
   bool staticBuilt = false;   // the static meshes' BVH was (re)built for this frame
+  std::vector<uint32_t> pixelSamples;  // camera samples traced per pixel (index y * width + x)
 };
 
 // Thrown by Renderer::render when its stop check asked it to end the frame early.

@@ -1,11 +1,13 @@
 // The integrators' options against analytic answers: environment sampling with multiple
 // importance sampling (the same mean as BSDF sampling alone, with far less variance under a sky
 // with a bright patch), the whitted integrator (exact Lambert under a sun, a glass slab's
-// Fresnel transmission with its internal reflections, no dependence on seed or thread count),
+// Fresnel transmission with its internal reflections, no dependence on seed or thread count,
+// adaptive anti-aliasing's extra samples only at an edge),
 // adaptive sampling (no more than min_samples where there is no noise, the asked-for error
 // where there is), and the denoiser (a noise-free checkerboard unchanged, a noisy plain ground's
 // error cut threefold).
 #include "furnace_scene.h"
+#include "render/image.h"
 #include "render/materials.h"
 #include "render/renderer.h"
 
@@ -14,6 +16,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -322,6 +325,7 @@ TEST(Whitted, SkyDirectionsDifferFromSampleToSampleOfAPixel) {
   kr::RenderSettings settings;
   settings.integrator = kr::IntegratorType::Whitted;
   settings.whitted.skyDirections = 4;
+  settings.whitted.adaptive.enabled = false;  // every pixel its samples
   settings.width = width;
   settings.height = 1;
   const auto rmsError = [&](int samples) {
@@ -376,6 +380,7 @@ TEST(Whitted, FilteredCheckersAverageCellsSmallerThanAPixelWithFewSamples) {
   kr::RenderSettings settings;
   settings.integrator = kr::IntegratorType::Whitted;
   settings.whitted.skyDirections = 1;
+  settings.whitted.adaptive.enabled = false;  // every pixel its samples
   settings.width = 64;
   settings.height = 64;
   const auto render = [&](int samples, bool filter) {
@@ -413,23 +418,89 @@ TEST(Whitted, ImageDependsOnNeitherSeedNorThreadCount) {
   settings.integrator = kr::IntegratorType::Whitted;
   settings.width = 53;  // not a multiple of the tile size
   settings.height = 37;
-  settings.samplesPerPixel = 3;
-  const auto render = [&](int threads, int seed) {
-    tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
-    settings.seed = seed;
-    return kr::renderFrame(scene, settings);
+  settings.samplesPerPixel = 5;
+  for (const bool adaptive : {false, true}) {
+    settings.whitted.adaptive.enabled = adaptive;
+    const auto render = [&](int threads, int seed, kr::RenderStats* stats = nullptr) {
+      tbb::global_control limit(tbb::global_control::max_allowed_parallelism, static_cast<size_t>(threads));
+      settings.seed = seed;
+      return kr::renderFrame(scene, settings, stats);
+    };
+    kr::RenderStats oneStats, twoStats;
+    const kr::Image one = render(1, 0, &oneStats);
+    const kr::Image two = render(2, 0, &twoStats);
+    const kr::Image seeded = render(2, 12345);
+    int distinct = 0;
+    for (int y = 0; y < one.height(); ++y)
+      for (int x = 0; x < one.width(); ++x) {
+        ASSERT_EQ(one.at(x, y), two.at(x, y)) << "pixel " << x << "," << y << (adaptive ? ", adaptive" : "");
+        ASSERT_EQ(one.at(x, y), seeded.at(x, y)) << "pixel " << x << "," << y << (adaptive ? ", adaptive" : "");
+        distinct += one.at(x, y) != one.at(0, 0);
+      }
+    EXPECT_GT(distinct, one.width() * one.height() / 4);  // something was rendered
+    EXPECT_EQ(oneStats.pixelSamples, twoStats.pixelSamples);
+    // adaptive: the first pass's 2 samples everywhere, 2 + 5 at the spheres' outlines
+    const auto least = std::min_element(oneStats.pixelSamples.begin(), oneStats.pixelSamples.end());
+    const auto most = std::max_element(oneStats.pixelSamples.begin(), oneStats.pixelSamples.end());
+    EXPECT_EQ(*least, adaptive ? 2u : 5u);
+    EXPECT_EQ(*most, adaptive ? 7u : 5u);
+  }
+}
+
+TEST(Whitted, AdaptiveAntiAliasingSamplesTheEdgeAndLeavesFlatRegionsAtTheMinimum) {
+  // A plain ground (albedo 0.2) and the top of a box (albedo 0.9, x > 0) seen from straight above,
+  // lit by a sun overhead and nothing else: two flat values and one straight edge between them.
+  // With 2 samples first and 16 where needed, the pixels the edge crosses well inside and their
+  // neighbours across it take 2 + 16 samples, as the uniform 16-sample render's pixels; every
+  // other pixel takes 2, as the uniform 2-sample render's.
+  const kr::TriangleMesh top = box({5, 0, 0.5f}, {5, 10, 0.5f}, Eigen::Matrix3f::Identity());
+  kr::RenderScene scene;
+  scene.environment.type = kr::EnvironmentType::Uniform;
+  scene.environment.zenith = Vector3f::Zero();
+  scene.sun.direction = {0, 0, -1};
+  scene.sun.angularDiameterDegrees = 0.0f;
+  scene.sun.irradiance = Vector3f::Ones();
+  scene.ground.checkerSize = 0.0f;
+  scene.ground.albedoA = Vector3f::Constant(0.2f);
+  kr::Material white;
+  white.albedo = Vector3f::Constant(0.9f);
+  scene.meshes.push_back({&top, white});
+  scene.camera.position = {0.3f, 0.1f, 20};  // over the box: its side wall is hidden
+  scene.camera.lookAt = {0.3f, 0.1f, 0};
+  scene.camera.up = {0.2f, 1, 0};  // the edge slants across the image
+  scene.camera.verticalFovDegrees = 2.0f * std::atan(1.0f / 20.0f) * 180.0f / kPi;  // 2 m across
+  kr::RenderSettings settings;
+  settings.integrator = kr::IntegratorType::Whitted;
+  settings.width = 40;
+  settings.height = 32;
+  settings.whitted.adaptive.enabled = false;
+  const auto render = [&](int samples, kr::RenderStats* stats = nullptr) {
+    settings.samplesPerPixel = samples;
+    return kr::renderFrame(scene, settings, stats);
   };
-  const kr::Image one = render(1, 0);
-  const kr::Image two = render(2, 0);
-  const kr::Image seeded = render(2, 12345);
-  int distinct = 0;
-  for (int y = 0; y < one.height(); ++y)
-    for (int x = 0; x < one.width(); ++x) {
-      ASSERT_EQ(one.at(x, y), two.at(x, y)) << "pixel " << x << "," << y;
-      ASSERT_EQ(one.at(x, y), seeded.at(x, y)) << "pixel " << x << "," << y;
-      distinct += one.at(x, y) != one.at(0, 0);
+  const kr::Image two = render(2), sixteen = render(16);
+  settings.whitted.adaptive = {true, 0.02f, 2};
+  kr::RenderStats stats;
+  const kr::Image adaptive = render(16, &stats);
+  const float ground = kr::linearToSrgb(0.2f / kPi), white09 = kr::linearToSrgb(0.9f / kPi);
+  int inside = 0, refined = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      const float v = kr::linearToSrgb(sixteen.at(x, y).x());
+      const bool onEdge = std::abs(v - ground) > 0.1f && std::abs(v - white09) > 0.1f;
+      const uint32_t n = stats.pixelSamples[size_t(y * settings.width + x)];
+      inside += onEdge ? 1 : 0;
+      refined += n == 18 ? 1 : 0;
+      if (onEdge) {
+        EXPECT_EQ(n, 18u) << "edge pixel " << x << "," << y;
+      }
+      ASSERT_TRUE(n == 2 || n == 18) << n;
+      EXPECT_EQ(adaptive.at(x, y), (n == 18 ? sixteen : two).at(x, y)) << "pixel " << x << "," << y;
     }
-  EXPECT_GT(distinct, one.width() * one.height() / 4);  // something was rendered
+  EXPECT_GE(inside, settings.height / 3);  // the edge crosses the image
+  EXPECT_LE(refined, 3 * settings.height);  // the edge's pixels and their neighbours, no more
+  EXPECT_GE(refined, 2 * settings.height);
+  EXPECT_EQ(stats.samples, uint64_t(2 * settings.width * settings.height + 16 * refined));
 }
 
 TEST(Adaptive, TakesMinSamplesWithoutNoiseAndReachesTheErrorWithIt) {

@@ -56,10 +56,10 @@ public:
   virtual CameraSample cameraSample(uint32_t pixel, int s, int n, PixelSampler& rng) const = 0;
 
   // Radiance (linear RGB) arriving at the camera along the ray origin + t direction (unit) of
-  // camera sample s. `hitSomething`: whether the ray met geometry, ground or a light (the pixel's
+  // camera sample s of n (as for cameraSample). `hitSomething`: whether the ray met geometry, ground or a light (the pixel's
   // coverage). `features`, when given, receives the path's denoiser features (noisy integrators
   // only). Thread-safe.
-  virtual Eigen::Vector3f radiance(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, int s,
+  virtual Eigen::Vector3f radiance(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, int s, int n,
                                    PixelSampler& rng, RayCounters& counters, bool& hitSomething,
                                    PathFeatures* features) const = 0;
 };

@@ -10,10 +10,11 @@
 //   sky        along skyDirections fixed cosine-distributed directions about the shading normal
 //              (each with its shadow ray), (albedo / K) sum L T over K directions, the cosine
 //              weighting cancelling the cosine (sum L T / K estimates E / pi)
-// The sky directions differ from sample to sample of a pixel: sample s takes points s, s + S, ...
-// of one Hammersley set of skyDirections x S points (S = samplesPerPixel), the same at every
-// pixel, so the pixel averages skyDirections x S directions and the sky's shadows are not
-// skyDirections hard copies. Shadow rays follow RenderSettings::transmissiveShadows. Translucent
+// The sky directions differ from sample to sample of a pixel: sample s of S takes points s,
+// s + S, ... of one Hammersley set of skyDirections x S points, the same at every pixel, so the
+// pixel averages skyDirections x S directions and the sky's shadows are not skyDirections hard
+// copies. S is samplesPerPixel, or, for the first pass of edge-adaptive anti-aliasing
+// (renderer.h), its minSamples: each count has its own set. Shadow rays follow RenderSettings::transmissiveShadows. Translucent
 // bodies are shaded as diffuse with albedo tint^2 (1 - F) (light scattered in and out once) plus
 // the Fresnel reflection. No indirect diffuse light, no caustics.
 //
@@ -43,6 +44,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 namespace kurage::render {
@@ -58,19 +60,16 @@ const Material kGroundMaterial{};
 class WhittedIntegrator final : public Integrator {
 public:
   WhittedIntegrator(const FrameScene& scene, const RenderSettings& settings)
-      : f_(scene), settings_(settings), skySamples_(std::max(1, settings.samplesPerPixel)) {
+      : f_(scene), settings_(settings) {
     const Camera& camera = scene.input.camera;
     forward_ = (camera.lookAt - camera.position).normalized();
     pixelAngle_ = settings.whitted.filterTextures
                       ? 2.0f * std::tan(0.5f * camera.verticalFovDegrees * std::numbers::pi_v<float> / 180.0f) /
                             float(std::max(1, settings.height))
                       : 0.0f;
-    // fixed Hammersley points, shifted half a stratum off the pole
-    const int points = settings.whitted.skyDirections * skySamples_;
-    for (int k = 0; k < points; ++k) {
-      const float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points);
-      skySet_.emplace_back((float(k) + 0.5f) / float(points), v - std::floor(v));
-    }
+    addSkySet(std::max(1, settings.samplesPerPixel));
+    const EdgeAdaptiveSettings& adaptive = settings.whitted.adaptive;
+    if (adaptive.enabled && adaptive.minSamples < settings.samplesPerPixel) addSkySet(adaptive.minSamples);
   }
 
   bool noisy() const override { return false; }
@@ -82,11 +81,14 @@ public:
     return {{sx, sy}, {sy, sx}};
   }
 
-  Vector3f radiance(const Vector3f& origin, const Vector3f& direction, int s, PixelSampler&, RayCounters& counters,
-                    bool& hitSomething, PathFeatures*) const override {
+  Vector3f radiance(const Vector3f& origin, const Vector3f& direction, int s, int n, PixelSampler&,
+                    RayCounters& counters, bool& hitSomething, PathFeatures*) const override {
     const float cosine = std::max(0.0f, forward_.dot(direction));
     const Cone cone{0.0f, pixelAngle_ * cosine * std::sqrt(cosine)};
-    return trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, s, counters, &hitSomething);
+    const SkySet* sky = &skySets_.front();
+    for (const SkySet& set : skySets_)
+      if (set.samples == n) sky = &set;
+    return trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, {s, sky}, counters, &hitSomething);
   }
 
 private:
@@ -94,16 +96,34 @@ private:
   struct Cone {
     float width = 0.0f, spread = 0.0f;
   };
-  Vector3f direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, int sample, RayCounters& counters) const;
+  // Fixed points warped to sky directions, skyDirections x samples of them (one Hammersley set,
+  // shifted half a stratum off the pole); sample s of `samples` takes points s, s + samples, ...
+  struct SkySet {
+    int samples = 1;
+    std::vector<Vector2f> points;
+  };
+  // The camera sample a ray belongs to: its index and its count's sky set.
+  struct Sample {
+    int index = 0;
+    const SkySet* sky = nullptr;
+  };
+  void addSkySet(int samples) {
+    SkySet set{samples, {}};
+    const int points = settings_.whitted.skyDirections * samples;
+    for (int k = 0; k < points; ++k) {
+      const float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points);
+      set.points.emplace_back((float(k) + 0.5f) / float(points), v - std::floor(v));
+    }
+    skySets_.push_back(std::move(set));
+  }
+  Vector3f direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, const Sample& sample,
+                  RayCounters& counters) const;
   Vector3f trace(const Vector3f& origin, const Vector3f& direction, int depth, const Vector3f& absorption,
-                 float weight, const Cone& cone, int sample, RayCounters& counters, bool* hitSomething) const;
+                 float weight, const Cone& cone, const Sample& sample, RayCounters& counters, bool* hitSomething) const;
 
   const FrameScene& f_;
   const RenderSettings& settings_;
-  // the fixed points warped to sky directions, skyDirections x samplesPerPixel of them (one
-  // Hammersley set); the pixel's sample s takes points s, s + S, s + 2 S, ... (S = skySamples_)
-  std::vector<Vector2f> skySet_;
-  int skySamples_ = 1;
+  std::vector<SkySet> skySets_;  // for samplesPerPixel, then for the adaptive first pass
   Vector3f forward_;         // the camera's viewing direction, unit
   float pixelAngle_ = 0.0f;  // a pixel's cone spread on the axis, radians (0: no filtering)
 };
@@ -111,8 +131,8 @@ private:
 // Direct light at a diffuse point of the given albedo, no noise: the sun along its centre
 // direction, each area light at the centres of an n x n grid, the sky along the fixed
 // cosine-distributed directions about the shading normal that belong to the pixel's sample
-// `sample` (skySet_), turned to wo's side.
-Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, int sample,
+// `sample` (its SkySet), turned to wo's side.
+Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, const Sample& sample,
                                    RayCounters& counters) const {
   const FrameScene& f = f_;
   const bool outside = wo.dot(hit.ng) >= 0.0f;
@@ -152,20 +172,22 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const
       }
   }
   Vector3f sky = Vector3f::Zero();
-  for (size_t k = size_t(sample % skySamples_); k < skySet_.size(); k += size_t(skySamples_)) {
-    const Vector2f& u = skySet_[k];
+  const std::vector<Vector2f>& set = sample.sky->points;
+  const int samples = sample.sky->samples;
+  for (size_t k = size_t(sample.index % samples); k < set.size(); k += size_t(samples)) {
+    const Vector2f& u = set[k];
     const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
     if (wi.dot(g) <= 0.0f || f.groundBlocks(hit.point, wi)) continue;
     sky += environmentRadiance(f.input.environment, wi).cwiseProduct(f.transmittance(f.leave(hit, wi), wi, kInfinity, counters));
   }
-  if (!skySet_.empty()) sum += albedo.cwiseProduct(sky) * (float(skySamples_) / float(skySet_.size()));
+  if (!set.empty()) sum += albedo.cwiseProduct(sky) * (float(samples) / float(set.size()));
   return sum;
 }
 
 // Radiance along a ray; `weight` is the product of the Fresnel and mirror factors so far (for the
 // cutoff), `absorption` the medium's coefficient (0: air).
 Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direction, int depth,
-                                  const Vector3f& absorption, float weight, const Cone& cone, int sample,
+                                  const Vector3f& absorption, float weight, const Cone& cone, const Sample& sample,
                                   RayCounters& counters, bool* hitSomething) const {
   const FrameScene& f = f_;
   const Hit hit = f.intersect(origin, direction, counters);
