@@ -10,8 +10,9 @@
 // on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, pipeline/analysis/image_rmse.h) against a
 // reference rendered once by the path tracer with environment sampling and --reference-spp
 // samples (another seed), and, for the whitted rows, also against whitted itself at 64 sub-pixel
-// samples, the row's sky directions and its texture filtering (its only error is then aliasing;
-// the "whitted unfiltered" rows point-sample checkers). Every row but the
+// samples everywhere, the row's sky directions and its texture filtering (its only error is then
+// aliasing; the "whitted unfiltered" rows point-sample checkers; the "whitted, adaptive" rows
+// sample more only at edges, renderer.h's EdgeAdaptiveSettings). Every row but the
 // whitted ones, the reference and --variance are path-traced whatever integrator the scene file
 // names. With --variance: where the noise comes from, the
 // RMSE between two renders that differ only in the seed, divided by sqrt(2) (the noise of one
@@ -19,6 +20,7 @@
 #include "pipeline/commands/cli.h"
 #include "pipeline/commands/machine.h"
 #include "pipeline/io/exr.h"
+#include "pipeline/io/image_file.h"
 #include "pipeline/io/surface_file.h"
 #include "pipeline/analysis/image_rmse.h"
 #include "pipeline/io/particle_cache.h"
@@ -30,6 +32,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -108,7 +111,19 @@ std::vector<BenchRow> rmseRows() {
                         s.samplesPerPixel = spp;
                         s.whitted.skyDirections = sky;
                         s.whitted.filterTextures = filter;
+                        s.whitted.adaptive.enabled = false;
                       }});
+  for (const auto& [threshold, lo, hi] : {std::tuple{0.02f, 1, 16}, std::tuple{0.04f, 1, 16}, std::tuple{0.02f, 2, 16},
+                                          std::tuple{0.04f, 2, 16}, std::tuple{0.08f, 2, 16}, std::tuple{0.02f, 2, 8},
+                                          std::tuple{0.04f, 2, 32}})
+    rows.push_back({"whitted, adaptive " + std::to_string(threshold).substr(0, 4) + ", " + std::to_string(lo) + "-" +
+                        std::to_string(hi) + " spp, 4 sky rays",
+                    [threshold, lo, hi](S& s) {
+                      s.integrator = render::IntegratorType::Whitted;
+                      s.samplesPerPixel = hi;
+                      s.whitted.skyDirections = 4;
+                      s.whitted.adaptive = {true, threshold, lo};
+                    }});
   return rows;
 }
 
@@ -142,8 +157,29 @@ render::Image rmseReference(const BenchFrame& frame, const std::optional<std::st
   return image;
 }
 
+// Writes a row's image and its camera samples per pixel (grey: the most samples white) to `dir`,
+// named by the row's label.
+void writeRowImages(const std::filesystem::path& dir, const std::string& label, const render::Image& image,
+                    const render::RenderStats& stats) {
+  std::string name;
+  for (const char c : label) name += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  std::filesystem::create_directories(dir);
+  writePng(image, dir / (name + ".png"));
+  if (stats.pixelSamples.size() != size_t(image.width()) * size_t(image.height())) return;
+  render::Image samples(image.width(), image.height());
+  const uint32_t most = std::max<uint32_t>(1, *std::max_element(stats.pixelSamples.begin(), stats.pixelSamples.end()));
+  for (int y = 0; y < image.height(); ++y)
+    for (int x = 0; x < image.width(); ++x) {
+      // linear grey, so that the PNG's sRGB encoding shows samples / most
+      const float v = render::srgbToLinear(float(stats.pixelSamples[size_t(y) * size_t(image.width()) + size_t(x)]) /
+                                           float(most));
+      samples.at(x, y) = {v, v, v, 1.0f};
+    }
+  writePng(samples, dir / (name + "-samples.png"));
+}
+
 int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std::optional<std::string>& referenceFile,
-              const std::optional<std::string>& only, int repeat, bool json) {
+              const std::optional<std::string>& only, int repeat, const std::optional<std::string>& images, bool json) {
   ThreadLimit limit(threads);
   const Scene pathScene = pathTraced(frame.scene);
   render::RenderStats referenceStats;
@@ -160,6 +196,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     whittedScene.render.settings.integrator = render::IntegratorType::Whitted;
     whittedScene.render.settings.whitted = whitted;
     whittedScene.render.settings.samplesPerPixel = 64;
+    whittedScene.render.settings.whitted.adaptive.enabled = false;
     return whittedReferences.emplace(key, frame.render(whittedScene, nullptr)).first->second;
   };
   const render::RenderSettings& base = frame.scene.render.settings;
@@ -194,6 +231,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     const bool whitted = scene.render.settings.integrator == render::IntegratorType::Whitted;
     const double self = whitted ? imageRmse(image, whittedReference(scene.render.settings.whitted)) : -1.0;
     const double spp = double(stats.samples) / (double(base.width) * base.height);
+    if (images) writeRowImages(*images, row.label, image, stats);
     result["rows"].push_back({{"run", row.label}, {"seconds", stats.seconds}, {"rmse", rmse}, {"mean_spp", spp},
                               {"rmse_vs_whitted64", whitted ? nlohmann::json(self) : nlohmann::json(nullptr)}});
     if (!json) {
@@ -266,7 +304,7 @@ int benchRender(ArgParser& args) {
     std::printf("usage: kurage bench render [--spp N] [--json]\n"
                 "       kurage bench render --rmse|--variance [--scene SCENE --from OUT --frame F [--quality Q]]\n"
                 "                           [--width W --height H --spp N --reference-spp R --threads T] [--json]\n"
-                "                           [--reference FILE.exr] [--rows TEXT] [--repeat N]\n\n"
+                "                           [--reference FILE.exr] [--rows TEXT] [--repeat N] [--images DIR]\n\n"
                 "Renders a fixed scene (a metaball water heap over a checker ground, sun and sky) at 1280x720\n"
                 "with N samples per pixel (default 4) and max depth 8 on 1 and 2 threads; prints Mrays/s\n"
                 "(camera rays, all rays) and seconds per frame. --json prints one JSON object.\n\n"
@@ -278,6 +316,8 @@ int benchRender(ArgParser& args) {
                 "and write it there when FILE does not exist (render a 4096-spp reference once, reuse it).\n"
                 "--rows TEXT: only the rows whose label contains TEXT (e.g. \"denoiser\", \"whitted\").\n"
                 "--repeat N: render each row N times and report the median seconds (default 1).\n"
+                "--images DIR: write each row's image and a map of its samples per pixel (grey, the most white)\n"
+                "to DIR/LABEL.png and DIR/LABEL-samples.png.\n"
                 "--variance: the noise of one N-spp render (default 4) by light and by path depth.\n");
     return 0;
   }
@@ -297,6 +337,7 @@ int benchRender(ArgParser& args) {
     const auto referenceFile = args.option({"--reference"});
     const auto only = args.option({"--rows"});
     const int repeat = args.intOption({"--repeat"}, 1, 100).value_or(1);
+    const auto images = args.option({"--images"});
     if (!args.positionals().empty()) args.fail("takes no positional arguments");
     if (sceneFile.has_value() != from.has_value()) args.fail("--scene and --from go together");
     BenchFrame frame;
@@ -342,7 +383,7 @@ int benchRender(ArgParser& args) {
     if (width) frame.scene.render.settings.width = *width;
     if (height) frame.scene.render.settings.height = *height;
     frame.scene.render.settings.samplesPerPixel = sppOption.value_or(4);
-    return rmse ? benchRmse(frame, threads, referenceSpp, referenceFile, only, repeat, json) : benchVariance(frame, threads, json);
+    return rmse ? benchRmse(frame, threads, referenceSpp, referenceFile, only, repeat, images, json) : benchVariance(frame, threads, json);
   }
   const int spp = args.intOption({"--spp"}, 1, 4096).value_or(4);
   if (!args.positionals().empty()) args.fail("takes no positional arguments");
