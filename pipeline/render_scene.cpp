@@ -37,6 +37,29 @@ render::TriangleMesh tankMesh(const Scene& scene, const Eigen::Vector3f& eye) {
   return mesh;
 }
 
+render::CurveSet faucetTubes(const Scene& scene) {
+  render::CurveSet set;
+  set.material = scene.render.faucets.material;
+  set.objectId = kObjectTank;
+  const sim::ContainerParams& box = scene.sim.container;
+  const float top = scene.render.tank.height > 0.0f ? box.min.z() + scene.render.tank.height : box.max.z();
+  for (const sim::EmitterParams& e : scene.sim.emitters) {
+    const Eigen::Vector3f d = e.direction.normalized();
+    const float radius = kFaucetRadiusScale * e.radius;
+    // The end cap (a half sphere of the pipe's radius) reaches the nozzle's disc.
+    const Eigen::Vector3f mouth = e.position - radius * d;
+    // Back along the jet until the pipe clears the tank's rim (at least two radii), then up.
+    const float clear = top + 2.0f * radius;
+    const float back = d.z() < 0.0f ? std::max(2.0f * radius, (clear - mouth.z()) / -d.z()) : 2.0f * radius;
+    const Eigen::Vector3f elbow = mouth - back * d;
+    render::Tube tube;
+    tube.points = {mouth, elbow, elbow + Eigen::Vector3f(0, 0, std::max(clear - elbow.z(), 0.0f) + kFaucetRise)};
+    tube.radii.assign(tube.points.size(), radius);
+    set.tubes.push_back(std::move(tube));
+  }
+  return set;
+}
+
 render::RenderScene makeRenderScene(const Scene& scene, double time) {
   const RenderParams& p = scene.render;
   render::RenderScene out;
@@ -58,6 +81,7 @@ render::RenderScene makeRenderScene(const Scene& scene, double time) {
       out.ownedMeshes.push_back(std::move(tank));
     }
   }
+  if (p.faucets.enabled && !scene.sim.emitters.empty()) out.curves.push_back(faucetTubes(scene));
   if (p.environment.type == render::EnvironmentType::Image) {
     requireRegularFile(p.environment.image);  // libpng opens it itself: a FIFO would block
     out.environment.image = std::make_shared<const render::Image>(render::readPng(p.environment.image));

@@ -1,6 +1,6 @@
 // From a scene's "render" section to the renderer's own description (render/scene.h): camera at
 // a time (keyframes), sun, area lights, environment (the image decoded here), ground, tank walls,
-// clip plane, chains as tubes, and particles as coloured spheres for explanatory stills.
+// faucets, clip plane, chains as tubes, and particles as coloured spheres for explanatory stills.
 #pragma once
 
 #include "pipeline/io/particle_cache.h"
@@ -27,6 +27,16 @@ std::vector<std::string> objectNames(const Scene& scene);
 // The tank walls (render.tank) seen from `eye`: the container's side walls whose inner face
 // the eye sees, from container.min.z up to the tank height.
 render::TriangleMesh tankMesh(const Scene& scene, const Eigen::Vector3f& eye);
+
+// The emitters drawn as faucets (render.faucets, in makeRenderScene when enabled): per emitter a
+// tube of radius kFaucetRadiusScale x the nozzle's radius whose rounded end touches the nozzle's
+// disc, straight back along the emitter's direction until it is two radii above the tank's rim
+// (render.tank.height, else container.max.z; at least two radii long), then straight up for
+// kFaucetRise (a B-spline, so the bend is rounded). Material render.faucets.material; object id
+// the tank's. A pipe whose way back leaves the tank below the rim passes through its wall.
+inline constexpr float kFaucetRadiusScale = 1.2f;
+inline constexpr float kFaucetRise = 8.0f;  // metres
+render::CurveSet faucetTubes(const Scene& scene);
 
 // The particles of a frame as spheres coloured by render.particles.color_by (kind, speed or
 // rest-density factor, the latter read as 1 where the cache has none).

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "pipeline/param_visitor.h"
+#include "render/airborne.h"
 #include "render/surfacing.h"
 #include "render/renderer.h"
 #include "sim/params.h"
@@ -36,6 +37,7 @@ struct OutputParams {
 
 struct SurfaceParams {
   render::MetaballParams fluid;
+  render::AirborneParams airborne;  // smaller blobs for the fluid's jets and spray
   // Every body except chains becomes its own level set (grid named after the body). Bodies have
   // half the fluid's spacing, hence the finer default field.
   render::MetaballParams bodies = [] {
@@ -81,6 +83,18 @@ struct TankParams {
     m.albedo = {0.7f, 0.7f, 0.68f};
     m.albedoB = {0.45f, 0.45f, 0.43f};
     m.checkerSize = 2.0f;
+    return m;
+  }();
+};
+
+// The emitters drawn as faucets (pipeline/render_scene.h, faucetTubes): a pipe of 1.2 times the
+// nozzle's radius that ends at the nozzle, along its direction, and rises to above the tank.
+struct FaucetParams {
+  bool enabled = false;
+  render::Material material = [] {
+    render::Material m;
+    m.type = render::MaterialType::Mirror;
+    m.albedo = {0.55f, 0.55f, 0.57f};
     return m;
   }();
 };
@@ -134,6 +148,7 @@ struct RenderParams {
   }();
   ChainRadiusParams chainRadius;
   TankParams tank;
+  FaucetParams faucets;
   render::ClipPlane clip;
   ParticleDisplayParams particles;
 };

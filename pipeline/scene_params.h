@@ -368,8 +368,23 @@ void describe(V& v, render::MetaballParams& p) {
 }
 
 template <class V>
+void describe(V& v, render::AirborneParams& p) {
+  v.value("enabled", p.enabled, {"", "give fast, sparse fluid particles (a falling jet, spray) a smaller blob"});
+  v.value("radius", p.radius, {"m", "blob radius of a fully airborne particle (at most surface.fluid.radius)", positive()});
+  v.value("speed_min", p.speedMin, {"m/s", "slower particles keep surface.fluid.radius", nonNegative()});
+  v.value("speed_full", p.speedFull, {"m/s", "faster particles are fully fast (above speed_min)", positive()});
+  v.value("fill_full", p.fillFull,
+          {"", "particles whose neighbours within R fill less than this fraction of a full sphere are fully sparse",
+           nonNegative()});
+  v.value("fill_min", p.fillMin, {"", "denser particles keep surface.fluid.radius (above fill_full)", positive()});
+}
+
+template <class V>
 void describe(V& v, SurfaceParams& p) {
   v.object("fluid", p.fluid, {"", "metaball surface of the fluid particles"});
+  v.object("airborne", p.airborne,
+           {"", "smaller blobs for the fluid's fast, sparse particles, so that a jet reads as a stream "
+                "(render/airborne.h: radius R - w (R - radius), w = fast x sparse, each a linear ramp)"});
   v.object("bodies", p.bodies, {"", "metaball surface of each body (chains excepted), one grid per body name"});
   v.value("clip_to_container", p.clipToContainer,
           {"", "intersect every surface with the container (grown by a quarter voxel, so that the walls and the "
@@ -457,6 +472,12 @@ void describe(V& v, TankParams& p) {
   v.value("enabled", p.enabled, {"", "draw the container's walls that the camera sees from inside (open top)"});
   v.value("height", p.height, {"m", "wall height above container.min; 0 = the container's height", nonNegative()});
   v.object("material", p.material, {"", "wall material (default: a diffuse checker)"});
+}
+
+template <class V>
+void describe(V& v, FaucetParams& p) {
+  v.value("enabled", p.enabled, {"", "draw each emitter as a pipe that comes from above the tank to its nozzle"});
+  v.object("material", p.material, {"", "pipe material (default: a grey mirror, brushed metal)"});
 }
 
 template <class V>
@@ -593,6 +614,7 @@ void describe(V& v, RenderParams& p) {
            {"", "chains are drawn as tubes along a cubic B-spline through their particles (not surfaced), "
                 "tapering linearly from root to tip"});
   v.object("tank", p.tank, {"", "the container's walls, drawn"});
+  v.object("faucets", p.faucets, {"", "the emitters drawn as pipes (faucets) ending at their nozzles"});
   v.object("clip", p.clip, {"", "clip plane for cross-section views"});
   v.object("particles", p.particles, {"", "particles drawn as spheres, for figures that explain the method"});
 }

@@ -194,13 +194,20 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
                                                      const std::function<bool()>& stop) {
   // Kind 0 is the fluid, kind b + 1 the body b; chains are drawn as curves, not surfaces.
   std::vector<std::vector<Eigen::Vector3f>> byKind(scene.sim.bodies.size() + 1);
+  std::vector<Eigen::Vector3f> fluidVelocities;
+  const bool airborne = scene.surface.airborne.enabled;
   for (size_t i = 0; i < frame.size(); ++i) {
     const size_t kind = size_t(frame.kind[i]);
     if (kind < byKind.size()) byKind[kind].emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
+    if (airborne && kind == 0) fluidVelocities.emplace_back(frame.vx[i], frame.vy[i], frame.vz[i]);
   }
+  const std::vector<float> fluidScales =
+      airborne ? render::airborneRadiusScales(byKind[0], fluidVelocities, scene.surface.fluid.radius,
+                                              scene.sim.fluid.spacing, scene.surface.airborne)
+               : std::vector<float>{};
   // Errors name the scene key whose voxel size is too fine for the positions or the memory.
-  const auto build = [&](const std::vector<Eigen::Vector3f>& positions, const render::MetaballParams& params,
-                         const char* key) {
+  const auto build = [&](const std::vector<Eigen::Vector3f>& positions, const std::vector<float>& scales,
+                         const render::MetaballParams& params, const char* key) {
     render::LevelSet levelSet;
     const auto named = [&](const std::string& what) {
       char size[32];
@@ -208,7 +215,7 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
       return std::string(key) + " = " + size + " m: " + what;
     };
     try {
-      levelSet = render::buildMetaballLevelSet(positions, params, stop);
+      levelSet = render::buildMetaballLevelSet(positions, scales, params, stop);
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(named(e.what()));
     } catch (const std::bad_alloc&) {
@@ -222,10 +229,11 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
     return levelSet;
   };
   std::map<std::string, render::LevelSet> surfaces;
-  surfaces.emplace("fluid", build(byKind[0], scene.surface.fluid, "surface.fluid.voxel_size"));
+  surfaces.emplace("fluid", build(byKind[0], fluidScales, scene.surface.fluid, "surface.fluid.voxel_size"));
   for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
     if (scene.sim.bodies[b].shape != sim::BodyShape::Chain)
-      surfaces.emplace(scene.sim.bodies[b].name, build(byKind[b + 1], scene.surface.bodies, "surface.bodies.voxel_size"));
+      surfaces.emplace(scene.sim.bodies[b].name,
+                       build(byKind[b + 1], {}, scene.surface.bodies, "surface.bodies.voxel_size"));
   return surfaces;
 }
 
@@ -275,7 +283,7 @@ render::Image renderSurfaces(const Scene& scene, const std::map<std::string, ren
     view.meshes.push_back({&meshes.back(), name == "fluid" ? scene.render.fluidMaterial : scene.render.bodyMaterial,
                            objectIdOfKind(kind == kinds.end() ? 0 : int(kind - kinds.begin()))});
   }
-  view.curves = curves;
+  view.curves.insert(view.curves.end(), curves.begin(), curves.end());  // after the faucets
   if (layers) layers->objectNames = objectNames(scene);
   return renderer ? renderer->render(view, scene.render.settings, stats, layers)
                   : render::renderFrame(view, scene.render.settings, stats, layers);

@@ -198,9 +198,10 @@ void splatEllipsoid(float* field, const openvdb::Vec3d& rel, const VoxelEllipsoi
 }
 
 // Sums the metaball field f. `shapes` (world, 1/m^2, one per position) gives each blob's
-// ellipsoid (MetaballKernel::Anisotropic); empty: spheres of radius R.
+// ellipsoid (MetaballKernel::Anisotropic); empty: spheres of radius R times `scales` (one per
+// position, in (0, 1]; empty: all 1).
 SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::vector<Eigen::Matrix3f>& shapes,
-                     const MetaballParams& params) {
+                     const std::vector<float>& scales, const MetaballParams& params) {
   const double h = params.voxelSize;
   const double invH = 1.0 / h;
   const double r = static_cast<double>(params.radius) * invH;  // support radius in voxels
@@ -234,10 +235,18 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::v
   // keep them in sorted order for locality.
   std::vector<openvdb::Vec3d> q(n);
   std::vector<VoxelEllipsoid> ellipsoids(shapes.empty() ? 0 : n);
+  // Per-particle support radius (voxels) and 1 / radius^2, in sorted order; a scale of 1 gives
+  // exactly r and invR2.
+  std::vector<double> radii(scales.empty() ? 0 : n);
+  std::vector<float> invRadii2(scales.empty() ? 0 : n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& range) {
     for (size_t i = range.begin(); i != range.end(); ++i) {
       const Eigen::Vector3f& p = positions[order[i].second];
       q[i] = openvdb::Vec3d(p.x() * invH, p.y() * invH, p.z() * invH);
+      if (!scales.empty()) {
+        radii[i] = r * static_cast<double>(scales[order[i].second]);
+        invRadii2[i] = static_cast<float>(1.0 / (radii[i] * radii[i]));
+      }
       if (shapes.empty()) continue;
       const Eigen::Matrix3d m = shapes[order[i].second].cast<double>() * (h * h);
       const Eigen::Matrix3d inverse = m.inverse();
@@ -326,22 +335,24 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::v
                 splatEllipsoid(field, rel, ellipsoids[i], strength);
                 continue;
               }
+              const double ri = radii.empty() ? r : radii[i];
+              const float invRi2 = radii.empty() ? invR2 : invRadii2[i];
               int lo[3], hi[3];
               bool overlaps = true;
               for (int a = 0; a < 3; ++a) {
-                lo[a] = std::max(0, static_cast<int>(std::ceil(rel[a] - r)));
-                hi[a] = std::min(kLeafDim - 1, static_cast<int>(std::floor(rel[a] + r)));
+                lo[a] = std::max(0, static_cast<int>(std::ceil(rel[a] - ri)));
+                hi[a] = std::min(kLeafDim - 1, static_cast<int>(std::floor(rel[a] + ri)));
                 overlaps = overlaps && lo[a] <= hi[a];
               }
               if (!overlaps) continue;
               const float px = static_cast<float>(rel[0]), py = static_cast<float>(rel[1]),
                           pz = static_cast<float>(rel[2]);
-              for (int x = lo[0]; x <= hi[0]; ++x) wx[x] = (x - px) * (x - px) * invR2;
-              for (int y = lo[1]; y <= hi[1]; ++y) wy[y] = (y - py) * (y - py) * invR2;
+              for (int x = lo[0]; x <= hi[0]; ++x) wx[x] = (x - px) * (x - px) * invRi2;
+              for (int y = lo[1]; y <= hi[1]; ++y) wy[y] = (y - py) * (y - py) * invRi2;
               // Whole rows of 8 as two 4-wide vectors: outside the support w is an exact 0,
               // and adding it keeps the sum unchanged. (The same operations on every lane, so
               // the sums do not depend on the vector width.)
-              for (int z = 0; z < kLeafDim; ++z) wz[z] = (z - pz) * (z - pz) * invR2;
+              for (int z = 0; z < kLeafDim; ++z) wz[z] = (z - pz) * (z - pz) * invRi2;
               Float4 wz0, wz1;
               std::memcpy(&wz0, &wz[0], sizeof wz0);
               std::memcpy(&wz1, &wz[4], sizeof wz1);
@@ -554,6 +565,11 @@ Eigen::Vector3f toEigen(const openvdb::Vec3s& v) { return {v.x(), v.y(), v.z()};
 
 LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params,
                                const std::function<bool()>& stop) {
+  return buildMetaballLevelSet(positions, {}, params, stop);
+}
+
+LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const std::vector<float>& radiusScales,
+                               const MetaballParams& params, const std::function<bool()>& stop) {
   const auto checkStop = [&stop] {
     if (stop && stop()) throw SurfacingStopped();
   };
@@ -562,6 +578,10 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
   if (positions.size() > std::numeric_limits<uint32_t>::max()) {
     throw std::invalid_argument("metaball: more than 2^32 particles");
   }
+  if (!radiusScales.empty() && radiusScales.size() != positions.size())
+    throw std::invalid_argument("metaball: radius scales and positions differ in number");
+  for (const float scale : radiusScales)
+    if (!(scale > 0.0f && scale <= 1.0f)) throw std::invalid_argument("metaball: a radius scale outside (0, 1]");
   LevelSet result;
   if (positions.empty()) {
     result.impl->grid = emptyLevelSetGrid(params.voxelSize, params.halfWidth);
@@ -572,11 +592,14 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
     const std::vector<EllipsoidKernel> kernels = anisotropicKernels(positions, params.radius, params.anisotropy);
     std::vector<Eigen::Vector3f> centres(kernels.size());
     std::vector<Eigen::Matrix3f> shapes(kernels.size());
-    for (size_t i = 0; i < kernels.size(); ++i) centres[i] = kernels[i].centre, shapes[i] = kernels[i].shape;
+    for (size_t i = 0; i < kernels.size(); ++i) {
+      centres[i] = kernels[i].centre, shapes[i] = kernels[i].shape;
+      if (!radiusScales.empty() && radiusScales[i] != 1.0f) shapes[i] /= radiusScales[i] * radiusScales[i];
+    }
     checkStop();
-    field = sumField(centres, shapes, params);
+    field = sumField(centres, shapes, {}, params);
   } else {
-    field = sumField(positions, {}, params);
+    field = sumField(positions, {}, radiusScales, params);
   }
   checkStop();
   const std::vector<SurfaceSamples> crossings = findCrossings(field, params.threshold);

@@ -88,6 +88,11 @@ public:
 // between the passes (kernels, field, crossings, narrow band): true throws SurfacingStopped.
 LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params,
                                const std::function<bool()>& stop = {});
+// The same with each particle's blob scaled: radius R * radiusScales[i] (the ellipsoid's axes
+// likewise), scales in (0, 1], one per position (empty: all 1; a scale of 1 gives the same bits
+// as the call above). Throws std::invalid_argument for a wrong count or a scale out of range.
+LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const std::vector<float>& radiusScales,
+                               const MetaballParams& params, const std::function<bool()>& stop = {});
 
 // Intersects a level set with the inside of the axis-aligned box [boxMin, boxMax] (world space,
 // metres): CSG on signed distances, phi' = max(phi, phi_box), phi_box the exact signed distance to

@@ -3,6 +3,7 @@
 // file round trips and failures.
 #include "pipeline/io/surface_file.h"
 #include "pipeline/stages.h"
+#include "render/airborne.h"
 #include "render/anisotropy.h"
 #include "render/surfacing.h"
 #include "sim/body_shapes.h"
@@ -305,6 +306,65 @@ TEST(Metaball, SameGridForOneAndTwoThreads) {
   size_t differing = 0;
   for (size_t i = 0; i < a.size(); ++i) differing += (a[i] != b[i]);
   EXPECT_EQ(differing, 0u);
+}
+
+TEST(Metaball, RadiusScalesShrinkEachBlobAndScalesOfOneChangeNothing) {
+  // One blob at half its radius has the analytic surface of R / 2; all scales 1 give the very
+  // grid of the unscaled call; a scale outside (0, 1] or a wrong count is refused.
+  const MetaballParams params = metaball(2.0f, 0.5f, 1.0f, 0.1f);
+  const Eigen::Vector3f centre(0.13f, -0.07f, 0.21f);
+  const LevelSet half = buildMetaballLevelSet({centre}, {0.5f}, params);
+  const double r0 = 0.5 * analyticRadius(params);
+  for (const Eigen::Vector3f& d : {Eigen::Vector3f(1, 0, 0), Eigen::Vector3f(0, 0, -1)})
+    EXPECT_NEAR(zeroCrossing(half, centre, d, params.radius), r0, 0.5 * params.voxelSize);
+  const std::vector<Eigen::Vector3f> particles = randomCluster(500, 1.5f, 7);
+  const LevelSet plain = buildMetaballLevelSet(particles, params);
+  const LevelSet ones = buildMetaballLevelSet(particles, std::vector<float>(particles.size(), 1.0f), params);
+  const Eigen::Vector3f lo = Eigen::Vector3f::Constant(-3.5f), hi = Eigen::Vector3f::Constant(3.5f);
+  EXPECT_EQ(plain.activeVoxelCount(), ones.activeVoxelCount());
+  EXPECT_TRUE(sampleVoxelCentres(plain, lo, hi) == sampleVoxelCentres(ones, lo, hi));
+  EXPECT_THROW(buildMetaballLevelSet({centre}, {0.0f}, params), std::invalid_argument);
+  EXPECT_THROW(buildMetaballLevelSet({centre}, {1.5f}, params), std::invalid_argument);
+  EXPECT_THROW(buildMetaballLevelSet({centre}, {1.0f, 1.0f}, params), std::invalid_argument);
+}
+
+TEST(Airborne, AJetAboveAPoolShrinksWhileStillAndDenseWaterKeepsItsRadius) {
+  // A still pool 10 x 10 x 4 m at 0.5 m spacing with a fast particle deep inside it, and a jet
+  // above it: discs of radius 0.8 m (the jellyfish's nozzles), 0.5 m apart, falling at 5 m/s.
+  // The jet gets the airborne radius; the pool, its surface, its corners and the fast particle
+  // inside keep R exactly; a jet slower than speed_min keeps R; disabled, everything keeps R.
+  const float spacing = 0.5f, R = 2.0f;
+  std::vector<Eigen::Vector3f> positions, velocities;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j)
+      for (int k = 0; k < 8; ++k) {
+        positions.emplace_back(0.25f + spacing * i, 0.25f + spacing * j, 0.25f + spacing * k);
+        velocities.emplace_back(0, 0, 0);
+      }
+  const size_t deep = 10 * 160 + 10 * 8 + 3;  // (5.25, 5.25, 1.75)
+  velocities[deep] = {0, 0, -5};
+  const size_t pool = positions.size();
+  for (int k = 0; k < 6; ++k)
+    for (int i = -2; i <= 2; ++i)
+      for (int j = -2; j <= 2; ++j)
+        if (std::hypot(float(i), float(j)) * spacing <= 0.8f) {
+          positions.emplace_back(5.0f + spacing * i, 5.0f + spacing * j, 6.5f + spacing * k);
+          velocities.emplace_back(0, 0, -5);
+        }
+  AirborneParams params;
+  params.enabled = true;
+  const std::vector<float> scales = airborneRadiusScales(positions, velocities, R, spacing, params);
+  ASSERT_EQ(scales.size(), positions.size());
+  for (size_t i = 0; i < pool; ++i) ASSERT_EQ(scales[i], 1.0f) << "pool particle " << i;
+  for (size_t i = pool; i < positions.size(); ++i) EXPECT_FLOAT_EQ(scales[i], params.radius / R) << "jet particle " << i;
+  std::vector<Eigen::Vector3f> slow = velocities;
+  for (size_t i = pool; i < slow.size(); ++i) slow[i] = {0, 0, -0.5f * params.speedMin};
+  for (const float s : airborneRadiusScales(positions, slow, R, spacing, params)) ASSERT_EQ(s, 1.0f);
+  params.enabled = false;
+  for (const float s : airborneRadiusScales(positions, velocities, R, spacing, params)) ASSERT_EQ(s, 1.0f);
+  params.enabled = true;
+  params.radius = 2.5f;  // above R
+  EXPECT_THROW(airborneRadiusScales(positions, velocities, R, spacing, params), std::invalid_argument);
 }
 
 // Exact signed distance to the box [lo, hi], negative inside.

@@ -824,6 +824,65 @@ TEST(ChainTubes, RenderStageDrawsChainsFromTheParticleCache) {
   }
 }
 
+namespace {
+
+// An emitter 2 m above a 4 m tank's rim (container [-3,3]^2 x [0,6], walls drawn 4 m high),
+// pointing down and towards -x, seen from the front against the sky (48 x 64, alpha).
+kp::Scene faucetScene(bool faucets) {
+  nlohmann::json document = nlohmann::json::parse(R"({
+    "name": "faucet",
+    "container": {"min": [-3, -3, 0], "max": [3, 3, 6]},
+    "fluid_blocks": [{"min": [-3, -3, 0], "max": [3, 3, 1]}],
+    "emitters": [{"position": [1, 0, 4], "direction": [-0.5, 0, -1], "radius": 0.5, "speed": 2,
+                  "start": 0, "end": 1}],
+    "output": {"duration": 1, "fps": 1},
+    "render": {
+      "width": 48, "height": 64, "samples": 2, "transparent_background": true,
+      "camera": {"position": [0, -14, 5], "look_at": [0, 0, 5], "up": [0, 0, 1], "fov": 40},
+      "ground": {"enabled": false},
+      "tank": {"enabled": true, "height": 4},
+      "faucets": {"enabled": false}
+    }
+  })");
+  document["render"]["faucets"]["enabled"] = faucets;
+  return kp::parseScene(document, "faucet.json");
+}
+
+}  // namespace
+
+TEST(Faucets, APipeEndsAtEachNozzleAlongItsJetAndRisesAboveTheRim) {
+  const kp::Scene scene = faucetScene(true);
+  const kr::CurveSet set = kp::faucetTubes(scene);
+  ASSERT_EQ(set.tubes.size(), 1u);
+  const kr::Tube& tube = set.tubes[0];
+  ASSERT_EQ(tube.points.size(), 3u);
+  const Vector3f d = Vector3f(-0.5f, 0, -1).normalized();
+  const float radius = kp::kFaucetRadiusScale * 0.5f;
+  for (const float r : tube.radii) EXPECT_EQ(r, radius);
+  // The rounded end touches the nozzle's disc; the pipe leaves along the jet's axis.
+  EXPECT_LT((tube.points[0] + radius * d - Vector3f(1, 0, 4)).norm(), 1e-5f);
+  EXPECT_GT((tube.points[1] - tube.points[0]).normalized().dot(-d), 0.99999f);
+  EXPECT_GE(tube.points[1].z(), 4.0f + 2.0f * radius - 1e-4f);  // two radii above the rim
+  EXPECT_NEAR(tube.points[2].z() - tube.points[1].z(), kp::kFaucetRise, 1e-4f);
+  EXPECT_EQ(set.material.type, kr::MaterialType::Mirror);
+  EXPECT_EQ(kp::makeRenderScene(scene, 0.0).curves.size(), 1u);
+  EXPECT_TRUE(kp::makeRenderScene(faucetScene(false), 0.0).curves.empty());
+}
+
+TEST(Faucets, ThePipeIsDrawnAboveTheNozzleOnlyWhenEnabled) {
+  // The point on the pipe's axis 1.5 m back from its mouth, and 1.5 m to its side (sky).
+  const Vector3f d = Vector3f(-0.5f, 0, -1).normalized();
+  const Vector3f onPipe = Vector3f(1, 0, 4) - 1.5f * d, beside = onPipe + Vector3f(1.5f, 0, 0);
+  for (const bool enabled : {true, false}) {
+    const kp::Scene scene = faucetScene(enabled);
+    const kr::Image image = kr::renderFrame(kp::makeRenderScene(scene, 0.0), scene.render.settings);
+    const Eigen::Vector2i on = project(scene.render.camera, scene.render.settings, onPipe);
+    const Eigen::Vector2i off = project(scene.render.camera, scene.render.settings, beside);
+    EXPECT_EQ(image.at(on.x(), on.y())[3], enabled ? 1.0f : 0.0f) << "enabled " << enabled;
+    EXPECT_EQ(image.at(off.x(), off.y())[3], 0.0f) << "enabled " << enabled;
+  }
+}
+
 // Static geometry (render/scene.h staticMeshes): built once by a Renderer and kept while equal,
 // rebuilt when it changes, and every frame exactly the image a fresh renderer gives.
 namespace {
