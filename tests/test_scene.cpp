@@ -153,6 +153,12 @@ const BadScene kBadScenes[] = {
      "surface.fluid.anisotropy.smoothing", "must be <= 1, got 1.5"},
     {"ClipNotABoolean", [](json& s) { s["surface"]["clip_to_container"] = 1; }, "surface.clip_to_container",
      "must be"},
+    {"AirborneRadiusAboveR", [](json& s) { s["surface"]["airborne"]["radius"] = 50.0; }, "surface.airborne.radius",
+     "must not exceed surface.fluid.radius"},
+    {"AirborneFillRampInverted", [](json& s) { s["surface"]["airborne"] = {{"fill_full", 0.5}, {"fill_min", 0.4}}; },
+     "surface.airborne.fill_min", "must exceed fill_full"},
+    {"FaucetsNotABoolean", [](json& s) { s["render"]["faucets"]["enabled"] = "yes"; }, "render.faucets.enabled",
+     "must be"},
     // Bodies (one valid box body at [8, 1, 1] - [10, 3, 3] is added, then broken).
     {"BodyYieldsNoParticle", [](json& s) { addBox(s)["max"] = {8.2, 3, 3}; }, "bodies[0]", "yields no particle"},
     {"BodyConnectionRadiusJoinsNone", [](json& s) { addBox(s)["connection_radius"] = 0.3; },
