@@ -258,7 +258,7 @@ void validate(const Scene& scene, const std::string& file) {
     fail("surface.fluid.threshold", "must be below the blob strength, or a single particle has no surface");
   if (blob.voxelSize >= blob.radius) fail("surface.fluid.voxel_size", "must be smaller than surface.fluid.radius");
   const render::AirborneParams& air = scene.surface.airborne;
-  if (air.radius > blob.radius) fail("surface.airborne.radius", "must not exceed surface.fluid.radius");
+  if (air.enabled && air.radius > blob.radius) fail("surface.airborne.radius", "must not exceed surface.fluid.radius");
   if (!(air.speedFull > air.speedMin)) fail("surface.airborne.speed_full", "must exceed speed_min");
   if (!(air.fillMin > air.fillFull)) fail("surface.airborne.fill_min", "must exceed fill_full");
 }

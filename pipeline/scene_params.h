@@ -370,7 +370,7 @@ void describe(V& v, render::MetaballParams& p) {
 template <class V>
 void describe(V& v, render::AirborneParams& p) {
   v.value("enabled", p.enabled, {"", "give fast, sparse fluid particles (a falling jet, spray) a smaller blob"});
-  v.value("radius", p.radius, {"m", "blob radius of a fully airborne particle (at most surface.fluid.radius)", positive()});
+  v.value("radius", p.radius, {"m", "blob radius of a fully airborne particle (at most surface.fluid.radius when enabled)", positive()});
   v.value("speed_min", p.speedMin, {"m/s", "slower particles keep surface.fluid.radius", nonNegative()});
   v.value("speed_full", p.speedFull, {"m/s", "faster particles are fully fast (above speed_min)", positive()});
   v.value("fill_full", p.fillFull,

@@ -25,13 +25,13 @@ std::vector<float> airborneRadiusScales(const std::vector<Eigen::Vector3f>& posi
                                         const AirborneParams& params) {
   if (velocities.size() != positions.size())
     throw std::invalid_argument("airborne: positions and velocities differ in number");
+  std::vector<float> scales(positions.size(), 1.0f);
+  if (!params.enabled) return scales;
   const bool ok = radius > 0.0f && spacing > 0.0f && params.radius > 0.0f && params.radius <= radius &&
                   params.speedFull > params.speedMin && params.fillMin > params.fillFull;
   if (!ok)
     throw std::invalid_argument("airborne: need R, spacing > 0, 0 < radius <= R, speed_full > speed_min, "
                                 "fill_min > fill_full");
-  std::vector<float> scales(positions.size(), 1.0f);
-  if (!params.enabled) return scales;
   const auto cell = [radius](float x) { return int64_t(std::floor(x / radius)); };
   std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
   for (size_t i = 0; i < positions.size(); ++i)
