@@ -33,7 +33,7 @@ struct AirborneParams {
 
 // One radius scale in (0, 1] per particle (see above); all 1 when !params.enabled. `radius` is R
 // and `spacing` the fluid's particle spacing (metres, > 0); velocities in m/s, one per position.
-// Throws std::invalid_argument for mismatched sizes or parameters out of range.
+// Throws std::invalid_argument for mismatched sizes, or (when enabled) parameters out of range.
 std::vector<float> airborneRadiusScales(const std::vector<Eigen::Vector3f>& positions,
                                         const std::vector<Eigen::Vector3f>& velocities, float radius, float spacing,
                                         const AirborneParams& params);
