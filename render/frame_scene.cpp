@@ -133,8 +133,7 @@ Vector3f FrameScene::filteredAlbedo(const Hit& hit, const Vector3f& direction, f
     const double half = 0.5 * std::hypot(double(a1.dot(axis)), double(a2.dot(axis))) / g.checkerSize;
     parity *= checkerWaveMean(centre - half, centre + half);
   }
-  const float even = float(0.5 * (1.0 + parity));
-  return even * g.albedoA + (1.0f - even) * g.albedoB;
+  return checkerBlend(parity, g.albedoA, g.albedoB);
 }
 
 bool FrameScene::groundBlocks(const Vector3f& origin, const Vector3f& direction) const {

@@ -105,6 +105,11 @@ double checkerWaveMean(double x0, double x1) {
   return 1.0 - 2.0 * (odd(x1) - odd(x0)) / (x1 - x0);
 }
 
+Vector3f checkerBlend(double parity, const Vector3f& a, const Vector3f& b) {
+  const float even = float(0.5 * (1.0 + parity));
+  return even * a + (1.0f - even) * b;
+}
+
 Vector3f checkerAlbedoFiltered(const Material& m, const Vector3f& albedo, const Vector3f& p, const Vector3f& width) {
   if (!(m.checkerSize > 0.0f)) return albedo;
   double parity = 1.0;
@@ -112,8 +117,7 @@ Vector3f checkerAlbedoFiltered(const Material& m, const Vector3f& albedo, const 
     const double centre = double(p[axis]) / m.checkerSize, half = 0.5 * double(width[axis]) / m.checkerSize;
     parity *= checkerWaveMean(centre - half, centre + half);
   }
-  const float even = float(0.5 * (1.0 + parity));
-  return even * albedo + (1.0f - even) * m.albedoB;
+  return checkerBlend(parity, albedo, m.albedoB);
 }
 
 float fresnelDielectric(float cosI, float etaI, float etaT) {

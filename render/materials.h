@@ -46,9 +46,13 @@ Eigen::Vector3f checkerAlbedo(const Material& m, const Eigen::Vector3f& albedo, 
 // Exact for any width; the mean is 0 over whole pairs of cells.
 double checkerWaveMean(double x0, double x1);
 
+// The two checker albedos mixed by a mean parity P in [-1, 1] (the product of the axes'
+// checkerWaveMean): (1 + P)/2 a + (1 - P)/2 b, a where P = 1, b where P = -1.
+Eigen::Vector3f checkerBlend(double parity, const Eigen::Vector3f& a, const Eigen::Vector3f& b);
+
 // checkerAlbedo averaged over the axis-aligned box centred on p with full widths `width` (metres,
 // >= 0 per axis): the parity sign is the product of one square wave per axis, so its mean over a
-// box is the product of the axes' means P, and the albedo (1 + P)/2 albedo + (1 - P)/2 albedoB.
+// box is the product of the axes' means P, and the albedo checkerBlend(P, albedo, albedoB).
 // A zero width gives checkerAlbedo.
 Eigen::Vector3f checkerAlbedoFiltered(const Material& m, const Eigen::Vector3f& albedo, const Eigen::Vector3f& p,
                                       const Eigen::Vector3f& width);
