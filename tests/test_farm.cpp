@@ -84,6 +84,10 @@ TEST_F(Farm, ThreeTasksGiveTheFramesOfALocalRun) {
   expectSameFrames(local_, out, 0, 4);
   const nlohmann::json record = nlohmann::json::parse(readText(out / "run.json"));
   EXPECT_EQ(record["stages"]["render"]["tasks"].size(), 3u);
+  for (const char* stage : {"surface", "render"}) {  // every task's frames, in frame order
+    EXPECT_EQ(record["stages"][stage]["per_frame"]["frame"], nlohmann::json({0, 1, 2, 3, 4})) << stage;
+    EXPECT_EQ(record["stages"][stage]["per_frame"]["seconds"].size(), 5u) << stage;
+  }
   EXPECT_GT(record["stages"]["sim"]["seconds"].get<double>(), 0.0);
   EXPECT_TRUE(fs::exists(out / "tiny_dam_break.mp4"));
   // the merge writes the run's page, showing the film it encoded

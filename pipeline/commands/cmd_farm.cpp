@@ -10,6 +10,7 @@
 #include "pipeline/report/run_report.h"
 #include "pipeline/scene.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <map>
@@ -259,7 +260,7 @@ int farmMerge(ArgParser& args) {
   if (!p.missingFrames.empty())
     throw std::runtime_error(plan.outDir.string() + ": frames " + frameList(p.missingFrames) +
                              " are missing; `kurage farm status` says which tasks failed");
-  // run.json: the simulation's record, with the surface and render tasks' seconds added up.
+  // run.json: the simulation's record, with the surface and render tasks' records merged.
   const fs::path records = plan.outDir / "records";
   const fs::path simRecord = records / "sim.json";
   nlohmann::json run = fs::exists(simRecord) ? readJson(simRecord)
@@ -267,18 +268,16 @@ int farmMerge(ArgParser& args) {
                                                               : nlohmann::json::object();
   for (const StageSpec& spec : stageTable()) {
     if (spec.sequential || !spec.perFrame) continue;  // the per-frame stages the frame tasks ran
-    const char* stage = spec.name;
-    double seconds = 0.0;
-    nlohmann::json tasks = nlohmann::json::array();
+    const std::string stage = spec.name;
+    std::vector<fs::path> files;
     for (const auto& entry : fs::directory_iterator(records)) {
       const std::string name = entry.path().filename().string();
-      if (name.rfind(std::string(stage) + "-", 0) != 0 || entry.path().extension() != ".json") continue;
-      const nlohmann::json r = readJson(entry.path());
-      const nlohmann::json& s = r["stages"][stage];
-      seconds += s.value("seconds", 0.0);
-      tasks.push_back({{"record", name}, {"seconds", s.value("seconds", 0.0)}});
+      if (name.rfind(stage + "-", 0) == 0 && entry.path().extension() == ".json") files.push_back(entry.path());
     }
-    run["stages"][stage] = {{"seconds", seconds}, {"frames", plan.last - plan.first + 1}, {"tasks", tasks}};
+    std::sort(files.begin(), files.end());
+    std::vector<std::pair<std::string, nlohmann::json>> tasks;
+    for (const fs::path& file : files) tasks.emplace_back(file.filename().string(), readJson(file));
+    run["stages"][stage] = mergeStageRecords(stage, tasks, plan.last - plan.first + 1);
   }
   run["farm"] = planToJson(plan);
   if (fs::exists(plan.outDir / "farm/jobs.json"))

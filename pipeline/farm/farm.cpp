@@ -206,4 +206,32 @@ std::string frameList(const std::vector<int>& frames) {
   return out;
 }
 
+nlohmann::json mergeStageRecords(const std::string& stage,
+                                 const std::vector<std::pair<std::string, nlohmann::json>>& records, int frames) {
+  double seconds = 0.0;
+  nlohmann::json tasks = nlohmann::json::array();
+  std::vector<std::pair<int, double>> made;  // (frame, seconds) of every task
+  for (const auto& [name, record] : records) {
+    const nlohmann::json entry = record.contains("stages") ? record["stages"].value(stage, nlohmann::json::object())
+                                                           : nlohmann::json::object();
+    const double taskSeconds = entry.value("seconds", 0.0);
+    seconds += taskSeconds;
+    tasks.push_back({{"record", name}, {"seconds", taskSeconds}});
+    if (!entry.contains("per_frame")) continue;
+    const nlohmann::json& frame = entry["per_frame"].at("frame");
+    const nlohmann::json& frameSeconds = entry["per_frame"].at("seconds");
+    if (frame.size() != frameSeconds.size())
+      throw std::runtime_error(name + ": stages." + stage + ".per_frame: " + std::to_string(frame.size()) +
+                               " frames but " + std::to_string(frameSeconds.size()) + " seconds");
+    for (size_t k = 0; k < frame.size(); ++k) made.emplace_back(frame[k].get<int>(), frameSeconds[k].get<double>());
+  }
+  std::stable_sort(made.begin(), made.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  nlohmann::json perFrame = {{"frame", nlohmann::json::array()}, {"seconds", nlohmann::json::array()}};
+  for (const auto& [frame, s] : made) {
+    perFrame["frame"].push_back(frame);
+    perFrame["seconds"].push_back(s);
+  }
+  return {{"seconds", seconds}, {"frames", frames}, {"tasks", std::move(tasks)}, {"per_frame", std::move(perFrame)}};
+}
+
 }  // namespace kurage::pipeline

@@ -20,6 +20,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace kurage::pipeline {
@@ -76,6 +77,15 @@ FarmProgress farmProgress(const FarmPlan& plan, const Scene& scene);
 
 // "3-5, 9" style list of frame numbers.
 std::string frameList(const std::vector<int>& frames);
+
+// One per-frame stage's entry of the merged OUT/run.json, from the frame tasks' records
+// (OUT/records/STAGE-FIRST-LAST.json: each record's file name and content, in the order to list
+// them): `seconds` the sum of the tasks' stage seconds, `frames` the plan's frame count, `tasks`
+// each record's name and seconds, and `per_frame` every task's entries ({"frame": [...],
+// "seconds": [...]}, docs/guide/outputs.md) joined and sorted by frame (stably: a frame two
+// records hold is listed twice, in their order). A record without the stage counts 0 s and no frame.
+nlohmann::json mergeStageRecords(const std::string& stage,
+                                 const std::vector<std::pair<std::string, nlohmann::json>>& records, int frames);
 
 
 }  // namespace kurage::pipeline
