@@ -8,6 +8,7 @@
 #include "pipeline/scene.h"
 #include "pipeline/sim_frame.h"
 #include "pipeline/stages.h"
+#include "render/text.h"
 #include "sim/bodies.h"
 #include "sim/simulation.h"
 
@@ -32,13 +33,14 @@ struct Level {
   int samples;    // per pixel
   int maxDepth;   // 0: the scene's
   int gap;        // px between panels
+  int textScale;  // image px per font px of the labels
 };
 
 Level levelOf(FigureQuality q) {
   switch (q) {
-    case FigureQuality::Tiny: return {Quality::Preview, {40, 60}, {64, 36}, {48, 64}, 1, 3, 2};
-    case FigureQuality::Preview: return {Quality::Preview, {200, 300}, {320, 180}, {270, 360}, 8, 0, 4};
-    case FigureQuality::Final: return {Quality::Final, {400, 600}, {640, 360}, {480, 640}, 16, 0, 8};
+    case FigureQuality::Tiny: return {Quality::Preview, {40, 60}, {64, 36}, {48, 64}, 1, 3, 2, 1};
+    case FigureQuality::Preview: return {Quality::Preview, {200, 300}, {320, 180}, {270, 360}, 8, 0, 4, 2};
+    case FigureQuality::Final: return {Quality::Final, {400, 600}, {640, 360}, {480, 640}, 16, 0, 8, 3};
   }
   return {};
 }
@@ -53,6 +55,39 @@ std::string seconds(double t) {
   char text[32];
   std::snprintf(text, sizeof text, "%g s", t);
   return text;
+}
+
+// The labels on a panel: white on a translucent dark box, ringed in black, so they read on sky,
+// water and floor alike.
+render::TextStyle panelLabel(int scale) {
+  return {scale, Eigen::Vector4f(1, 1, 1, 1), Eigen::Vector4f(0, 0, 0, 0.8f), Eigen::Vector4f(0, 0, 0, 0.45f)};
+}
+
+// "t = 4 s", to the hundredth of a second.
+std::string timeLabel(double t) { return "t = " + seconds(std::round(t * 100.0) / 100.0); }
+
+// A still with its number (matching its plot marker; 0: none) and then its moment in its top left
+// corner (the top right is where Fig. 5's faucet pours).
+render::Image labelled(render::Image panel, int number, double time, int scale) {
+  int x = 3 * scale;
+  if (number > 0) {
+    const std::string n = std::to_string(number);
+    render::drawText(panel, x, 3 * scale, n, panelLabel(scale));
+    x += render::textWidth(n, scale) + 6 * scale;
+  }
+  render::drawText(panel, x, 3 * scale, timeLabel(time), panelLabel(scale));
+  return panel;
+}
+
+// A row's name read bottom to top, centred in a white margin as tall as the row, to its left.
+render::Image withRowLabel(const render::Image& row, const std::string& name, int scale, int gap) {
+  render::Image across(row.height(), render::textHeight(scale) + 2 * scale, Eigen::Vector4f::Ones());
+  render::drawText(across, (across.width() - render::textWidth(name, scale)) / 2, scale, name,
+                   {scale, Eigen::Vector4f(0, 0, 0, 1), Eigen::Vector4f::Zero(), Eigen::Vector4f::Zero()});
+  render::Image upward(across.height(), across.width());  // turned a quarter anticlockwise
+  for (int y = 0; y < across.height(); ++y)
+    for (int x = 0; x < across.width(); ++x) upward.at(y, across.width() - 1 - x) = across.at(x, y);
+  return besideEachOther({upward, row}, gap);
 }
 
 fs::path sceneFile(const FigureOptions& o, const std::string& name) {
@@ -202,20 +237,24 @@ nlohmann::json figure2(const FigureOptions& o, const Level& level, std::vector<f
     const Run run = simulate(scene, moments, moments.back(), loadScene(file).output.fps);
     for (size_t f = 0; f < run.frames.size(); ++f) {
       say(o, "fig2: rendering " + file.filename().string() + " at " + seconds(run.moments[f]));
-      rows[variant == 0 ? 0 : 2].push_back(renderStill(scene, run.frames[f], run.moments[f]));
-      if (variant == 0) rows[1].push_back(renderStill(section, run.frames[f], run.moments[f]));
+      const double t = run.moments[f];
+      rows[variant == 0 ? 0 : 2].push_back(labelled(renderStill(scene, run.frames[f], t), 0, t, level.textScale));
+      if (variant == 0) rows[1].push_back(labelled(renderStill(section, run.frames[f], t), 0, t, level.textScale));
     }
   }
+  const char* names[3] = {"telescopic", "cross-section", "conventional"};
   std::vector<render::Image> strips;
-  for (const auto& row : rows) strips.push_back(besideEachOther(row, level.gap));
+  for (int r = 0; r < 3; ++r)
+    strips.push_back(withRowLabel(besideEachOther(rows[r], level.gap), names[r], level.textScale, level.gap));
   const fs::path file = o.outDir / "fig2_membrane.png";
   writePng(aboveEachOther(strips, level.gap), file);
   written.push_back(file);
   return {{"file", file.filename().string()},
           {"scenes", {telescopicFile.string(), conventionalFile.string()}},
           {"moments_s", moments},
-          {"layout", "columns: the moments; rows: the telescopic membrane, its cross-section (the half in front of "
-                     "the tank's middle clipped away), the conventional mass-spring membrane"},
+          {"layout", "columns: the moments (each panel's time at its top left); rows, named at their left: the "
+                     "telescopic membrane, its cross-section (the half in front of the tank's middle clipped away), "
+                     "the conventional mass-spring membrane"},
           {"camera", cameraJson(telescopic.render.camera)}};
 }
 
@@ -235,7 +274,8 @@ nlohmann::json figure3(const FigureOptions& o, const Level& level, std::vector<f
   std::vector<render::Image> stills;
   for (size_t f = 0; f < run.frames.size(); ++f) {
     say(o, "fig3: rendering box.json at " + seconds(run.moments[f]));
-    stills.push_back(renderStill(scene, run.frames[f], run.moments[f]));
+    stills.push_back(labelled(renderStill(scene, run.frames[f], run.moments[f]), int(f) + 1, run.moments[f],
+                              level.textScale));
   }
   const render::Image strip = besideEachOther(stills, level.gap);
   const render::Image plot = drawPlot(forcePlot(run, 0.0, until, "time (s)", "force per spring (N)", plotWidth(strip.width()),
@@ -311,7 +351,8 @@ nlohmann::json figure5(const FigureOptions& o, const Level& level, std::vector<f
   std::vector<render::Image> stills;
   for (size_t f = 0; f < run.frames.size(); ++f) {
     say(o, "fig5: rendering jellyfish.json at " + seconds(run.moments[f]));
-    stills.push_back(renderStill(scene, run.frames[f], run.moments[f]));
+    stills.push_back(labelled(renderStill(scene, run.frames[f], run.moments[f]), int(f) + 1, run.moments[f],
+                              level.textScale));
   }
   const render::Image strip = besideEachOther(stills, level.gap);
   const render::Image plot = drawPlot(forcePlot(run, t0, t0 + period, "time in the cycle (s)",

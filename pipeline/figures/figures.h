@@ -8,8 +8,10 @@
 //                      float again, above the applied force per spring against time (fig3_force.*)
 //   fig5_jellyfish.png SPEC §4.3: frames over one pulse cycle while the right faucet pours, above
 //                      the ring muscle's force per spring over that cycle (fig5_force.*)
-// The plots are also SVG, PDF and gnuplot scripts (pipeline/io/plot.h); figures.json records
-// each figure's scene, moments, camera and wall time.
+// Every still carries its moment ("t = 4 s") in its top left corner, in Fig. 3 and 5 after its
+// number, the number of its marker on the plot; Fig. 2's rows are named at their left
+// (render/text.h draws the labels). The plots are also SVG, PDF and gnuplot scripts
+// (pipeline/io/plot.h); figures.json records each figure's scene, moments, camera and wall time.
 //
 // Each experiment is simulated once, in process, only as far as its figure's last moment, and
 // sampled at the scene's own frame rate (output.fps: the frames are those `kurage run` writes at
