@@ -40,6 +40,24 @@ public:
   // One row at the simulation's time (nothing for a scene without bodies or emitters).
   void record(const sim::Simulation& simulation);
 
+  // One record: the simulation's time, the fluid's surface height, and per body, per muscle (in
+  // the scene's order, body by body) and per shell body its measures.
+  struct Row {
+    double time = 0.0;
+    double surface = 0.0;
+    double level = 0.0;  // the water's level (scenes with emitters; 0 otherwise)
+    std::vector<Eigen::Vector3d> centres;  // per body: its centre of mass (particle-mass weighted)
+    std::vector<double> factors;           // per body: mean rest-density factor
+    std::vector<double> forces;            // per muscle: as applied in the last step (at t = 0 the curve's)
+    std::vector<double> margins;  // per shell body: margin radius (m)
+    std::vector<size_t> inWall;   // per shell body: fluid particles inside its wall
+    std::vector<double> tilts;    // per shell body: tilt from its axis as built (degrees)
+    std::vector<double> apexes;   // per shell body: height of its highest particle (m)
+    std::vector<double> widths;   // per shell body: its diameter (ShellWall::shape, m)
+  };
+  // The rows recorded so far, oldest first.
+  const std::vector<Row>& rows() const { return rows_; }
+
   // The rows so far, for checkpoints (pipeline/io/checkpoint.h).
   std::string saveState() const;
   // Throws sim::StateError for rows that do not fit the scene.
@@ -73,19 +91,6 @@ private:
   // The muscles' force against time, with each body's measured depth below the free surface.
   void writePlot(const std::filesystem::path& file) const;
 
-  struct Row {
-    double time = 0.0;
-    double surface = 0.0;
-    double level = 0.0;  // the water's level (scenes with emitters; 0 otherwise)
-    std::vector<Eigen::Vector3d> centres;
-    std::vector<double> factors;
-    std::vector<double> forces;
-    std::vector<double> margins;  // per shell body: margin radius (m)
-    std::vector<size_t> inWall;   // per shell body: fluid particles inside its wall
-    std::vector<double> tilts;    // per shell body: tilt from its axis as built (degrees)
-    std::vector<double> apexes;   // per shell body: height of its highest particle (m)
-    std::vector<double> widths;   // per shell body: its diameter (ShellWall::shape, m)
-  };
   const sim::SimParams& params_;
   std::string sceneName_;
   int frameCount_ = 0;

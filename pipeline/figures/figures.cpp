@@ -1,5 +1,6 @@
 #include "pipeline/figures/figures.h"
 
+#include "pipeline/analysis/body_track.h"
 #include "pipeline/interrupt.h"
 #include "pipeline/io/files.h"
 #include "pipeline/io/image_file.h"
@@ -9,7 +10,6 @@
 #include "pipeline/sim_frame.h"
 #include "pipeline/stages.h"
 #include "render/text.h"
-#include "sim/bodies.h"
 #include "sim/simulation.h"
 
 #include <nlohmann/json.hpp>
@@ -110,8 +110,8 @@ Scene loadFigureScene(const fs::path& file, const Level& level, const Eigen::Vec
 }
 
 // One run of a scene sampled at `fps` up to the last moment: the first body's centre of mass and
-// first muscle's applied force at every sample, and the particle frames at the moments (each
-// moved to the nearest sample).
+// first muscle's applied force at every sample (as BodyTrack records them), and the particle
+// frames at the moments (each moved to the nearest sample).
 struct Run {
   std::vector<double> time, force;
   std::vector<Eigen::Vector3d> centre;
@@ -126,24 +126,17 @@ Run simulate(const Scene& scene, std::vector<double> moments, double until, doub
   sim::Simulation simulation(scene.sim);
   simulation.setStopChecks(interruptPending);
   const int samples = int(std::ceil(until * fps - 1e-6));
+  BodyTrack track(scene.sim, scene.name, samples + 1);
+  track.start(simulation);
+  const bool body = !scene.sim.bodies.empty(), muscle = body && !scene.sim.bodies[0].muscles.empty();
   size_t next = 0;
   for (int k = 0; k <= samples; ++k) {
     const double t = k / fps;
     if (k > 0) simulation.advanceTo(t);
-    const sim::ParticleSet& p = simulation.particles();
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    double mass = 0.0;
-    for (size_t i = 0; i < p.size(); ++i)
-      if (p.kind[i] == 1) {
-        centre += double(p.mass[i]) * Eigen::Vector3d(p.x[i], p.y[i], p.z[i]);
-        mass += double(p.mass[i]);
-      }
+    track.record(simulation);
     run.time.push_back(t);
-    run.centre.push_back(mass > 0.0 ? Eigen::Vector3d(centre / mass) : centre);
-    const bool muscle = !scene.sim.bodies.empty() && !scene.sim.bodies[0].muscles.empty();
-    run.force.push_back(!muscle ? 0.0
-                        : k > 0 ? double(simulation.bodies()->appliedMuscleForce(0))
-                                : double(scene.sim.bodies[0].muscles[0].force.at(0.0)));
+    run.centre.push_back(body ? track.rows().back().centres[0] : Eigen::Vector3d::Zero());
+    run.force.push_back(muscle ? track.rows().back().forces[0] : 0.0);
     while (next < moments.size() && std::abs(moments[next] - t) < 0.5 / fps) {
       run.frames.push_back(frameFromSimulation(scene, simulation, int(run.frames.size())));
       run.moments.push_back(t);
