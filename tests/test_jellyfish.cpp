@@ -193,7 +193,7 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthThroughThePoursKeepingItsShapeAnd
 }
 
 // The control: the same bell without the ring muscle's pulses, in the same tank without the
-// faucets, sinks (it is heavier than water, 1.17 on average): at least 0.3 m in three periods.
+// faucets, sinks (it is heavier than water, 1.34 on average): at least 0.3 m in three periods.
 TEST(Jellyfish, TheSameBellUnpulsedSinks) {
   pipeline::Scene scene = jellyfishScene();
   sim::SimParams& p = scene.sim;
