@@ -42,6 +42,14 @@ SimParams jellyfishTank(const std::string& solver, float spacing, InitialState s
   return p;
 }
 
+// The same 20 m of water on a quarter of the floor, 10 x 7 m: at 0.5 m spacing it has the 1 m
+// tank's 20 x 14 columns, as many kernel radii from each side wall, and the full depth in 40
+// layers, for a quarter of the 20 x 14 m tank's particles.
+SimParams quarterFloor(SimParams p) {
+  p.container.max.head<2>() *= 0.5f;
+  p.fluidBlocks[0].max.head<2>() *= 0.5f;
+  return p;
+}
 
 }  // namespace
 
@@ -168,12 +176,15 @@ TEST(WallWeights, GiveDfsphTheTermsBoundaryParticlesGive) {
 //   2.5 %).
 // - DFSPH at its defaults: surface 0.04 % / 0.07 %, slabs 2.08 % / 2.86 % (1.43-2.64 % /
 //   0.74-6.01 %); with the correction alone 0.14 % / 0.12 %, 2.59 % / 2.46 % (2.62-4.29 % /
-//   2.34-4.07 %). Not met; the tank bounces (RMS 0.6-0.7 m/s), so these four cases are asserted
-//   at 6.5 %, guards against a blow-up.
+//   2.34-4.07 %). Not met; the tank bounces (RMS 0.6-0.7 m/s), so these are asserted at 6.5 %,
+//   guards against a blow-up: the defaults at both spacings, the correction alone at 1 m (at
+//   0.5 m its two paths run in the calm and corrected case and the defaults' Jacobi divergence
+//   solve).
 // - WCSPH (k = 20000, walls of boundary particles energy-consistent, docs/design/physics.md "Walls under
 //   WCSPH"): surface 0.27 % / 0.67 % (0.28-0.29 % / 0.68-0.69 %), slabs 1.72 % / 2.06 %
 //   (1.70-1.79 % / 2.66-2.86 %); with the gradient correction 0.04 % / 0.44 %, 1.02 % / 1.14 %.
-//   Asserted at the issue's 3 %.
+//   Asserted at the issue's 3 %, the corrected WCSPH at 1 m (the correction at 0.5 m runs under
+//   DFSPH).
 // - IISPH at its defaults (0.1 %, the paper's warm start of half the last step's pressure; no
 //   divergence solve): surface 0.45 % / 0.50 %, slabs 3.93 % / 1.33 %, RMS 0.37 / 0.07 m/s.
 //   Asserted at 0.7 % and 5 % / 2.5 %.
@@ -222,6 +233,8 @@ TEST_P(HydrostaticTank, SettledSurfaceAndInteriorPressure) {
   const double worstPressure = track.worstSlab();
   // How still the tank is at the end: the fluid's RMS speed.
   const double rms = kurage::pipeline::rmsSpeed(sim.particles(), 0);
+  std::printf("surface %.2f %%, slabs %.2f %%, one-spacing layers %.2f %%, against the weight above %.2f %%, RMS %.2f m/s\n",
+              100 * surfaceError, 100 * worstPressure, 100 * track.worstLayer(), 100 * track.worstSlabAgainstWeight(), rms);
   EXPECT_LT(rms, c.rmsSpeed);
   EXPECT_GT(track.slabs(), 5);
   EXPECT_LT(surfaceError, c.surfaceTolerance);
@@ -232,7 +245,6 @@ INSTANTIATE_TEST_SUITE_P(Solvers, HydrostaticTank,
                          ::testing::Values(TankCase{"dfsph", 1.0f, false, false, 2.0, 5.0, 0.005, 0.065, 1.0},
                                            TankCase{"dfsph", 0.5f, false, false, 2.0, 5.0, 0.005, 0.065, 1.0},
                                            TankCase{"dfsph", 1.0f, true, false, 2.0, 5.0, 0.005, 0.065, 1.0},
-                                           TankCase{"dfsph", 0.5f, true, false, 2.0, 5.0, 0.005, 0.065, 1.0},
                                            TankCase{"dfsph", 1.0f, false, true, 2.0, 5.0, 0.008, 0.02, 0.5},
                                            TankCase{"dfsph", 0.5f, false, true, 2.0, 5.0, 0.005, 0.025, 0.5},
                                            TankCase{"dfsph", 1.0f, true, true, 2.0, 5.0, 0.005, 0.02, 0.5},
@@ -240,7 +252,6 @@ INSTANTIATE_TEST_SUITE_P(Solvers, HydrostaticTank,
                                            TankCase{"wcsph", 1.0f, false, false, 2.0, 5.0, 0.03, 0.03, 0.3},
                                            TankCase{"wcsph", 0.5f, false, false, 2.0, 5.0, 0.03, 0.03, 0.4},
                                            TankCase{"wcsph", 1.0f, true, false, 2.0, 5.0, 0.03, 0.03, 0.3},
-                                           TankCase{"wcsph", 0.5f, true, false, 2.0, 5.0, 0.03, 0.03, 0.4},
                                            TankCase{"iisph", 1.0f, false, false, 2.0, 5.0, 0.007, 0.05, 0.6},
                                            TankCase{"iisph", 0.5f, false, false, 2.0, 5.0, 0.007, 0.025, 0.3}),
                          [](const auto& info) {
@@ -269,7 +280,9 @@ TEST(HydrostaticStart, TheStillTankDoesNotFallInItsFirstSecond) {
 // the column rearranges into a denser packing and its free surface sinks; started on the relaxed
 // packing, with the mass calibrated on it, the free surface (HydrostaticTrack::freeSurface, the
 // interior's water per floor area) over the last 5 s stays within 0.05 m of where it started
-// (0.25 % of the 20 m). The lattice start's drift is printed at 1 m, not asserted.
+// (0.25 % of the 20 m). At 0.5 m the same column stands on a quarter of the floor (10 x 7 m, the
+// 1 m tank's 20 x 14 columns): measured 0.001 m, against swings of +-0.02 m on the whole floor
+// (docs/notebook/water-volume.md). The lattice start's drift is printed at 1 m, not asserted.
 class StillTankVolume : public ::testing::TestWithParam<float> {};
 
 namespace {
@@ -300,6 +313,7 @@ double thirtySecondDrift(SimParams p) {
 TEST_P(StillTankVolume, TheRelaxedPackingKeepsTheSurfaceForThirtySeconds) {
   const float spacing = GetParam();
   SimParams p = jellyfishTank("dfsph", spacing);
+  if (spacing < 1.0f) p = quarterFloor(p);
   p.fluid.packing = StartPacking::Relaxed;
   EXPECT_LT(thirtySecondDrift(p), 0.05);
   if (spacing == 1.0f) {
