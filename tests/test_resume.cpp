@@ -195,30 +195,33 @@ TEST(Resume, SigtermWritesACheckpointAndTheResumedSimulationIsBitIdentical) {
   EXPECT_EQ(ran["stages"]["sim"]["steps"], nlohmann::json::parse(readText(reference / "run.json"))["stages"]["sim"]["steps"]);
 }
 
-TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOutputs) {
+TEST(Resume, SigkillAtTenMomentsAcrossTheRunThenResumeLeavesTheUninterruptedRunsOutputs) {
   TempDir dir;
   const fs::path reference = dir.path() / "reference", log = dir.path() / "log.txt";
   const auto start = std::chrono::steady_clock::now();
   ASSERT_EQ(test::runKurage("run " + kJellyfish.string() + " -o " + reference.string() + " --threads 2", log), 0)
       << readText(log);
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // 20 trials: a fresh run killed at a random moment of its length, then resumed to the end.
-  // The length is the reference's, unless a trial ends before its moment: then that trial's
-  // length is used from there on, so the range only shrinks (the reference may have shared the
-  // machine with another test). A trial killed early may not have made its folder yet.
+  double length = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // 10 trials: a fresh run killed at a random moment of the k-th tenth of 2-95 % of its length,
+  // so that each part of the run (the simulation's frames and checkpoints, the surfaces, the
+  // frames, the movie) sees a kill, then resumed to the end. The length is the reference's,
+  // unless a trial ends before its moment: then that trial's length is used from there on, so
+  // the range only shrinks (the reference may have shared the machine with another test). A
+  // trial killed early may not have made its folder yet.
   std::mt19937 rng(20261125);
-  std::uniform_real_distribution<double> moment(0.02 * seconds, 0.95 * seconds);
+  std::uniform_real_distribution<double> within(0.0, 1.0);
+  const int trials = 10;
   const auto argsFor = [&](const fs::path& folder) {
     return std::vector<std::string>{"run", kJellyfish.string(), "-o", folder.string(), "--threads", "2", "--resume",
                                     "--checkpoint-every", "1"};
   };
   const std::map<std::string, std::string> expected = outputsOf(reference);
   int killed = 0;
-  for (int k = 0; k < 20; ++k) {
+  for (int k = 0; k < trials; ++k) {
     const fs::path trial = dir.path() / ("trial" + std::to_string(k));
     const pid_t pid = test::startKurage(argsFor(trial), log);
     const auto began = std::chrono::steady_clock::now();
-    const double at = moment(rng);
+    const double at = length * (0.02 + 0.93 * (k + within(rng)) / trials);
     const auto since = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count(); };
     bool ended = false;  // reaped before its moment (then it must not be signalled)
     int status = 0;
@@ -230,8 +233,7 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
     }
     if (ended) {
       ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "a trial failed on its own\n" << readText(log);
-      const double length = since();
-      moment = std::uniform_real_distribution<double>(0.02 * length, 0.95 * length);
+      length = since();
     } else {
       ::kill(pid, SIGKILL);
       if (test::waitFor(pid) == 128 + SIGKILL) ++killed;
@@ -241,10 +243,10 @@ TEST(Resume, SigkillAtTwentyRandomMomentsThenResumeLeavesTheUninterruptedRunsOut
     EXPECT_EQ(nlohmann::json::parse(readText(trial / "run.json"))["status"], "complete");
     for (const auto& entry : fs::recursive_directory_iterator(trial))
       EXPECT_NE(entry.path().extension(), ".tmp") << "left behind: " << entry.path();
-    if (k < 19) fs::remove_all(trial);
+    if (k < trials - 1) fs::remove_all(trial);
   }
-  EXPECT_GE(killed, 15);
-  const fs::path out = dir.path() / "trial19";
+  EXPECT_GE(killed, trials - 2);
+  const fs::path out = dir.path() / ("trial" + std::to_string(trials - 1));
   const std::vector<std::string> args = argsFor(out);
   // A further resume redoes nothing: the simulation is at its last frame, the frames and the
   // movie are up to date.
