@@ -106,6 +106,31 @@ TEST(Plot, GnuplotDrawsPngSvgAndPdfAndTheScriptRedrawsThem) {
     EXPECT_NE(entry.path().extension(), ".tmp") << "left behind: " << entry.path();
 }
 
+// Twice the size at scale 2 is the same picture enlarged: its ink grows as the area (x4), where
+// unscaled text and lines would keep their size and grow only with the lengths (about x2).
+TEST(Plot, AScaledPlotIsTheSamePlotEnlarged) {
+  test::TempDir dir;
+  const auto ink = [&](int width, int height, double scale) {
+    Plot plot = sample();
+    plot.width = width;
+    plot.height = height;
+    plot.scale = scale;
+    const fs::path png = dir.path() / ("plot" + std::to_string(width) + ".png");
+    writePlot(plot, png);
+    const render::Image image = render::readPng(png);
+    double sum = 0.0;
+    for (int y = 0; y < image.height(); ++y)
+      for (int x = 0; x < image.width(); ++x) sum += 1.0 - image.at(x, y).head<3>().mean();
+    return sum;
+  };
+  EXPECT_NE(gnuplotScript([] { Plot p = sample(); p.scale = 2.0; return p; }(), {"a.png", "a.svg", "a.pdf"})
+                .find("fontscale 2 linewidth 2 pointscale 2"),
+            std::string::npos);
+  const double one = ink(450, 280, 1.0), two = ink(900, 560, 2.0);
+  EXPECT_GT(two / one, 3.2);
+  EXPECT_LT(two / one, 4.8);
+}
+
 TEST(Plot, AnEmptyPlotStillGivesItsAxes) {
   test::TempDir dir;
   Plot plot;

@@ -81,7 +81,7 @@ std::string gnuplotScript(const Plot& plot, const PlotOutputs& outputs) {
     << "set encoding utf8\nreset\n";
   // About 7 pixels a character at the 11-point font of the PNG.
   std::string title;
-  for (const std::string& line : wrapTitle(plot.title, size_t(std::max(20, plot.width / 8))))
+  for (const std::string& line : wrapTitle(plot.title, size_t(std::max(20, int(plot.width / (8 * plot.scale))))))
     title += (title.empty() ? "" : "\n") + line;
   if (!title.empty()) s << "set title " << gnuplotString(title) << " noenhanced\n";
   bool right = false;
@@ -141,12 +141,17 @@ std::string gnuplotScript(const Plot& plot, const PlotOutputs& outputs) {
     plotCommand << "NaN notitle";
   }
   const double inchesW = plot.width / 100.0, inchesH = plot.height / 100.0;
-  s << "set terminal pngcairo size " << plot.width << "," << plot.height << " font \"sans,11\"\n"
+  // (gnuplot's svg terminal has no pointscale: its markers keep their size)
+  const std::string svgScaled =
+      plot.scale == 1.0 ? std::string() : " fontscale " + number(plot.scale) + " linewidth " + number(plot.scale);
+  const std::string scaled = plot.scale == 1.0 ? std::string() : svgScaled + " pointscale " + number(plot.scale);
+  s << "set terminal pngcairo size " << plot.width << "," << plot.height << " font \"sans,11\"" << scaled << "\n"
     << "set output " << fileString(outputs.png) << "\n"
     << plotCommand.str() << "\n"
-    << "set terminal svg size " << plot.width << "," << plot.height << " font \"sans,11\"\n"
+    << "set terminal svg size " << plot.width << "," << plot.height << " font \"sans,11\"" << svgScaled << "\n"
     << "set output " << fileString(outputs.svg) << "\nreplot\n"
-    << "set terminal pdfcairo size " << number(inchesW) << "in," << number(inchesH) << "in font \"sans,8\"\n"
+    << "set terminal pdfcairo size " << number(inchesW) << "in," << number(inchesH) << "in font \"sans,8\"" << scaled
+    << "\n"
     << "set output " << fileString(outputs.pdf) << "\nreplot\nunset output\n";
   return s.str();
 }

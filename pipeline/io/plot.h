@@ -47,6 +47,7 @@ struct Plot {
   PlotAxis x, y, y2;  // y2 is used only when some series has axis = 1
   std::vector<PlotSeries> series;
   int width = 900, height = 560;  // PNG pixels; SVG and PDF keep the aspect (PDF at 100 px/inch)
+  double scale = 1.0;  // text, lines and markers this many times their size (a wide print-size plot); > 0
   bool grid = true;
   bool legend = true;
 };
