@@ -77,6 +77,7 @@ TEST(Figures, TinySetWritesEveryFigureWithStillsAndPlottedData) {
   }
   const nlohmann::json record = nlohmann::json::parse(readText(out / "figures.json"));
   EXPECT_EQ(record.at("quality"), "tiny");
+  EXPECT_EQ(record.at("render").at("integrator"), "whitted");
   for (const char* name : {"fig2", "fig3", "fig5"}) EXPECT_TRUE(record.at("figures").contains(name)) << name;
   EXPECT_EQ(record["figures"]["fig3"]["moments_s"].size(), 2u);
 }
@@ -99,6 +100,16 @@ TEST(Figures, BadArgumentsExitTwoNamingTheArgument) {
   EXPECT_FALSE(fs::exists(out));  // nothing written
   EXPECT_EQ(test::runKurage("figures --help", log), 0);
   EXPECT_NE(readText(log).find("fig5_jellyfish.png"), std::string::npos);
+}
+
+// The path tracer at a figure's samples leaves grain on the translucent bodies and the far floor;
+// every level renders noise-free, with filtered checkers, by the whitted integrator.
+TEST(Figures, EveryLevelRendersWithTheWhittedIntegrator) {
+  for (FigureQuality q : {FigureQuality::Tiny, FigureQuality::Preview, FigureQuality::Final}) {
+    SCOPED_TRACE(figureQualityName(q));
+    EXPECT_EQ(figureLevel(q).integrator, render::IntegratorType::Whitted);
+  }
+  EXPECT_LT(figureLevel(FigureQuality::Preview).samples, figureLevel(FigureQuality::Final).samples);
 }
 
 TEST(Figures, PanelsSitSideBySideAndCentredBelow) {

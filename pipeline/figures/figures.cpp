@@ -7,6 +7,7 @@
 #include "pipeline/io/plot.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/scene.h"
+#include "pipeline/scene_params.h"
 #include "pipeline/sim_frame.h"
 #include "pipeline/stages.h"
 #include "render/text.h"
@@ -24,26 +25,19 @@ namespace kurage::pipeline {
 
 namespace fs = std::filesystem;
 
-namespace {
-
-// What a quality level changes: each figure's still size and samples, and for tiny its moments.
-struct Level {
-  Quality scene;  // the scenes' own quality (preview_quality or as written)
-  Eigen::Vector2i membrane, box, jellyfish;  // still sizes, px
-  int samples;    // per pixel
-  int maxDepth;   // 0: the scene's
-  int gap;        // px between panels
-  int textScale;  // image px per font px of the labels
-};
-
-Level levelOf(FigureQuality q) {
+FigureLevel figureLevel(FigureQuality q) {
   switch (q) {
-    case FigureQuality::Tiny: return {Quality::Preview, {40, 60}, {64, 36}, {48, 64}, 1, 3, 2, 1};
-    case FigureQuality::Preview: return {Quality::Preview, {200, 300}, {320, 180}, {270, 360}, 8, 0, 4, 2};
-    case FigureQuality::Final: return {Quality::Final, {400, 600}, {640, 360}, {480, 640}, 16, 0, 8, 3};
+    case FigureQuality::Tiny:
+      return {Quality::Preview, render::IntegratorType::Whitted, {40, 60}, {64, 36}, {48, 64}, 1, 3, 2, 1};
+    case FigureQuality::Preview:
+      return {Quality::Preview, render::IntegratorType::Whitted, {200, 300}, {320, 180}, {270, 360}, 8, 0, 4, 2};
+    case FigureQuality::Final:
+      return {Quality::Final, render::IntegratorType::Whitted, {400, 600}, {640, 360}, {480, 640}, 16, 0, 8, 4};
   }
   return {};
 }
+
+namespace {
 
 const Eigen::Vector3f kForceColour(0.69f, 0.19f, 0.38f);
 
@@ -97,13 +91,15 @@ fs::path sceneFile(const FigureOptions& o, const std::string& name) {
   return file;
 }
 
-Scene loadFigureScene(const fs::path& file, const Level& level, const Eigen::Vector2i& size) {
+Scene loadFigureScene(const fs::path& file, const FigureLevel& level, const Eigen::Vector2i& size) {
   Scene scene = loadScene(file);
   applyQuality(scene, level.scene);
   render::RenderSettings& s = scene.render.settings;
   s.width = size.x();
   s.height = size.y();
   s.samplesPerPixel = level.samples;
+  s.integrator = level.integrator;
+  if (s.integrator == render::IntegratorType::Whitted) s.denoise.enabled = false;  // whitted has no noise to filter
   if (level.maxDepth > 0) s.maxDepth = std::min(s.maxDepth, level.maxDepth);
   checkSceneLimits(scene, file.string());
   return scene;
@@ -157,17 +153,25 @@ render::Image renderStill(const Scene& scene, const ParticleFrame& frame, double
   return image;
 }
 
+// The plots are as wide as the strip above them, and never narrower than their labels need; a
+// strip wider than the preview's (about 1,600 px) scales the plot's text, lines and markers with
+// it, so that they keep their size relative to the figure.
+void sizePlot(Plot& plot, int stripWidth) {
+  plot.scale = std::max(1.0, stripWidth / 1600.0);
+  plot.width = std::max(stripWidth, 480);
+  plot.height = std::clamp(stripWidth / 5, 180, int(420 * plot.scale));
+}
+
 // The force against time, with a numbered marker at each still's moment (1, 2, ... left to right).
-Plot forcePlot(const Run& run, double t0, double t1, const std::string& xLabel, const std::string& yLabel, int width,
-               int height) {
+Plot forcePlot(const Run& run, double t0, double t1, const std::string& xLabel, const std::string& yLabel,
+               int stripWidth) {
   Plot plot;
   plot.x.label = xLabel;
   plot.y.label = yLabel;
   plot.x.min = 0.0;
   plot.x.max = t1 - t0;
   plot.legend = false;
-  plot.width = width;
-  plot.height = height;
+  sizePlot(plot, stripWidth);
   PlotSeries force;
   force.colour = kForceColour;
   force.lineWidth = 3.0;
@@ -202,10 +206,6 @@ render::Image drawPlot(const Plot& plot, const fs::path& png, std::vector<fs::pa
   return render::readPng(png);
 }
 
-// The plots are as wide as the strip above them, and never narrower than their labels need.
-int plotWidth(int stripWidth) { return std::max(stripWidth, 480); }
-int plotHeight(int stripWidth) { return std::clamp(stripWidth / 5, 180, 420); }
-
 nlohmann::json cameraJson(const render::Camera& c) {
   return {{"position", {c.position.x(), c.position.y(), c.position.z()}},
           {"look_at", {c.lookAt.x(), c.lookAt.y(), c.lookAt.z()}},
@@ -213,12 +213,18 @@ nlohmann::json cameraJson(const render::Camera& c) {
 }
 
 // Fig. 2: columns are moments; rows the telescopic membrane, its cross-section, the conventional.
-nlohmann::json figure2(const FigureOptions& o, const Level& level, std::vector<fs::path>& written) {
+nlohmann::json figure2(const FigureOptions& o, const FigureLevel& level, std::vector<fs::path>& written) {
   const std::vector<double> moments = o.quality == FigureQuality::Tiny ? std::vector<double>{0.5}
                                                                          : std::vector<double>{4.0, 8.0, 12.0};
   const fs::path telescopicFile = sceneFile(o, "membrane.json"), conventionalFile = sceneFile(o, "membrane_conventional.json");
-  const Scene telescopic = loadFigureScene(telescopicFile, level, level.membrane);
-  const Scene conventional = loadFigureScene(conventionalFile, level, level.membrane);
+  Scene telescopic = loadFigureScene(telescopicFile, level, level.membrane);
+  Scene conventional = loadFigureScene(conventionalFile, level, level.membrane);
+  // The scenes' view raised 2 m, so that the fluid piled over the rim by 12 s stays in the frame.
+  for (Scene* scene : {&telescopic, &conventional}) {
+    scene->render.cameraKeys.clear();
+    scene->render.camera.position.z() += 2.0f;
+    scene->render.camera.lookAt.z() += 2.0f;
+  }
   Scene section = telescopic;
   const sim::ContainerParams& box = telescopic.sim.container;
   section.render.clip = {true, {0.0f, 0.5f * (box.min.y() + box.max.y()), 0.0f}, {0.0f, -1.0f, 0.0f}};
@@ -252,7 +258,7 @@ nlohmann::json figure2(const FigureOptions& o, const Level& level, std::vector<f
 }
 
 // Fig. 3: the box's frames left to right above the applied force against time.
-nlohmann::json figure3(const FigureOptions& o, const Level& level, std::vector<fs::path>& written) {
+nlohmann::json figure3(const FigureOptions& o, const FigureLevel& level, std::vector<fs::path>& written) {
   const bool tiny = o.quality == FigureQuality::Tiny;
   // Floating, contracted on the bottom, released and rising, swollen, floating again
   // (box.json's force: contract 7-14 s, expand 23-30 s).
@@ -260,8 +266,16 @@ nlohmann::json figure3(const FigureOptions& o, const Level& level, std::vector<f
   const double until = tiny ? 0.5 : 38.0;
   const fs::path file = sceneFile(o, "box.json");
   Scene scene = loadFigureScene(file, level, level.box);
+  // In front of the tank, the eye 3/4 of its height up, looking at a third of its height: the
+  // box is seen once, through the front wall at its depth (from the scene's higher view it is
+  // seen twice, through the water's surface and through the front wall).
+  const sim::ContainerParams& tank = scene.sim.container;
+  const Eigen::Vector3f middle = 0.5f * (tank.min + tank.max), size = tank.max - tank.min;
   scene.render.cameraKeys.clear();
-  scene.render.camera.verticalFovDegrees = 30.0f;  // the scene's view, closer in: the tank fills the frame
+  scene.render.camera.position = {middle.x(), tank.min.y() - 1.43f * size.y(), tank.min.z() + 0.75f * size.z()};
+  scene.render.camera.lookAt = {middle.x(), middle.y(), tank.min.z() + size.z() / 3.0f};
+  scene.render.camera.up = Eigen::Vector3f::UnitZ();
+  scene.render.camera.verticalFovDegrees = 30.0f;
   say(o, "fig3: simulating " + file.string() + " to " + seconds(until));
   const Run run = simulate(scene, moments, until, loadScene(file).output.fps);
   std::vector<render::Image> stills;
@@ -271,9 +285,8 @@ nlohmann::json figure3(const FigureOptions& o, const Level& level, std::vector<f
                               level.textScale));
   }
   const render::Image strip = besideEachOther(stills, level.gap);
-  const render::Image plot = drawPlot(forcePlot(run, 0.0, until, "time (s)", "force per spring (N)", plotWidth(strip.width()),
-                                                plotHeight(strip.width())),
-                                      o.outDir / "fig3_force.png", written);
+  const render::Image plot =
+      drawPlot(forcePlot(run, 0.0, until, "time (s)", "force per spring (N)", strip.width()), o.outDir / "fig3_force.png", written);
   const fs::path figure = o.outDir / "fig3_box.png";
   writePng(aboveEachOther({strip, plot}, level.gap), figure);
   written.insert(written.end() - 4, figure);
@@ -288,7 +301,7 @@ nlohmann::json figure3(const FigureOptions& o, const Level& level, std::vector<f
 }
 
 // Fig. 5: frames over one pulse cycle while a faucet pours, above the ring muscle's force.
-nlohmann::json figure5(const FigureOptions& o, const Level& level, std::vector<fs::path>& written) {
+nlohmann::json figure5(const FigureOptions& o, const FigureLevel& level, std::vector<fs::path>& written) {
   const bool tiny = o.quality == FigureQuality::Tiny;
   const fs::path file = sceneFile(o, "jellyfish.json");
   Scene scene = loadFigureScene(file, level, level.jellyfish);
@@ -348,10 +361,9 @@ nlohmann::json figure5(const FigureOptions& o, const Level& level, std::vector<f
                               level.textScale));
   }
   const render::Image strip = besideEachOther(stills, level.gap);
-  const render::Image plot = drawPlot(forcePlot(run, t0, t0 + period, "time in the cycle (s)",
-                                                "ring force per spring (N)", plotWidth(strip.width()),
-                                                plotHeight(strip.width())),
-                                      o.outDir / "fig5_force.png", written);
+  const render::Image plot = drawPlot(
+      forcePlot(run, t0, t0 + period, "time in the cycle (s)", "ring force per spring (N)", strip.width()),
+      o.outDir / "fig5_force.png", written);
   const fs::path figure = o.outDir / "fig5_jellyfish.png";
   writePng(aboveEachOther({strip, plot}, level.gap), figure);
   written.insert(written.end() - 4, figure);
@@ -393,12 +405,14 @@ std::vector<fs::path> writeFigures(const FigureOptions& options) {
   for (const std::string& name : options.only)
     if (std::find(figureNames().begin(), figureNames().end(), name) == figureNames().end())
       throw std::invalid_argument("no figure " + name + " (fig2, fig3 or fig5)");
-  const Level level = levelOf(options.quality);
+  const FigureLevel level = figureLevel(options.quality);
   fs::create_directories(options.outDir);
   std::vector<fs::path> written;
   nlohmann::json record = {{"quality", figureQualityName(options.quality)}, {"figures", nlohmann::json::object()}};
+  for (const auto& [name, integrator] : kIntegrator)
+    if (integrator == level.integrator) record["render"] = {{"integrator", name}, {"samples", level.samples}};
   const auto start = std::chrono::steady_clock::now();
-  using Maker = nlohmann::json (*)(const FigureOptions&, const Level&, std::vector<fs::path>&);
+  using Maker = nlohmann::json (*)(const FigureOptions&, const FigureLevel&, std::vector<fs::path>&);
   const std::pair<const char*, Maker> makers[] = {{"fig2", figure2}, {"fig3", figure3}, {"fig5", figure5}};
   for (const auto& [name, make] : makers) {
     if (!options.only.empty() && std::find(options.only.begin(), options.only.end(), name) == options.only.end())

@@ -11,19 +11,23 @@
 // Every still carries its moment ("t = 4 s") in its top left corner, in Fig. 3 and 5 after its
 // number, the number of its marker on the plot; Fig. 2's rows are named at their left
 // (render/text.h draws the labels). The plots are also SVG, PDF and gnuplot scripts
-// (pipeline/io/plot.h); figures.json records each figure's scene, moments, camera and wall time.
+// (pipeline/io/plot.h); figures.json records each figure's scene, moments, camera and wall time,
+// and the stills' integrator and samples.
 //
 // Each experiment is simulated once, in process, only as far as its figure's last moment, and
 // sampled at the scene's own frame rate (output.fps: the frames are those `kurage run` writes at
 // final quality); the muscle force plotted is the one applied in the step before each sample
-// (a depth reflex scales the pulse). Stills are surfaced and rendered as the stages do. Fig. 5's
-// camera is placed from the simulated bell and the pouring nozzle, so it frames the bell and
-// the jet whatever the scene's own camera.
+// (a depth reflex scales the pulse). Stills are surfaced and rendered as the stages do. Fig. 2's
+// view is the scenes' raised 2 m (the fluid piled over the rim stays in the frame); Fig. 3's
+// looks at the tank's front from below the scene's, so that the box is seen once, at its depth,
+// not also through the water's surface; Fig. 5's is placed from the simulated bell and the
+// pouring nozzle, so it frames the bell and the jet whatever the scene's own camera.
 //
 // Quality: tiny (seconds: the first tenths of a second at thumbnail size, for tests), preview
 // (the scenes' preview_quality, minutes on 2 cores), final (the scenes as written, for print).
 #pragma once
 
+#include "pipeline/scene.h"
 #include "render/image.h"
 
 #include <Eigen/Core>
@@ -36,6 +40,21 @@
 namespace kurage::pipeline {
 
 enum class FigureQuality { Tiny, Preview, Final };
+
+// What a quality level sets for every figure's stills. Every level renders with the whitted
+// integrator: noise-free, its checkers filtered over each pixel's footprint (render/renderer.h);
+// the path tracer at the samples a figure can afford leaves grain on the translucent bodies and
+// the far floor (docs/notebook/rendering.md, "The paper's figures").
+struct FigureLevel {
+  Quality scene;                      // the scenes' own quality (preview_quality or as written)
+  render::IntegratorType integrator;  // replaces the scenes' own; the denoiser is off with whitted
+  Eigen::Vector2i membrane, box, jellyfish;  // still sizes, px: Fig. 2, 3 and 5
+  int samples;    // per pixel
+  int maxDepth;   // 0: the scene's
+  int gap;        // px between panels
+  int textScale;  // image px per font px of the labels
+};
+FigureLevel figureLevel(FigureQuality quality);
 
 // "tiny", "preview", "final"; parseFigureQuality throws std::invalid_argument for anything else.
 const char* figureQualityName(FigureQuality quality);
