@@ -929,15 +929,15 @@ $series1 << EOD
 29 -2500 "4"
 37 0 "5"
 EOD
-set terminal pngcairo size 1616,323 font "sans,11"
+set terminal pngcairo size 1616,323 font "sans,11" fontscale 1.01 linewidth 1.01 pointscale 1.01
 set output "fig3_force.png"
 plot $series0 using 1:2 with lines lc rgb "#b03061" lw 3 pt 7 ps 1 axes x1y1 title "" noenhanced, \
      $series1 using 1:2 with points lc rgb "#1a1a1a" lw 2 pt 7 ps 1.5 axes x1y1 title "" noenhanced, \
      $series1 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced
-set terminal svg size 1616,323 font "sans,11"
+set terminal svg size 1616,323 font "sans,11" fontscale 1.01 linewidth 1.01
 set output "fig3_force.svg"
 replot
-set terminal pdfcairo size 16.16in,3.23in font "sans,8"
+set terminal pdfcairo size 16.16in,3.23in font "sans,8" fontscale 1.01 linewidth 1.01 pointscale 1.01
 set output "fig3_force.pdf"
 replot
 unset output

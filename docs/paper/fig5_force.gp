@@ -54,15 +54,15 @@ $series1 << EOD
 1 0 "5"
 1.25 0 "6"
 EOD
-set terminal pngcairo size 1640,328 font "sans,11"
+set terminal pngcairo size 1640,328 font "sans,11" fontscale 1.025 linewidth 1.025 pointscale 1.025
 set output "fig5_force.png"
 plot $series0 using 1:2 with lines lc rgb "#b03061" lw 3 pt 7 ps 1 axes x1y1 title "" noenhanced, \
      $series1 using 1:2 with points lc rgb "#1a1a1a" lw 2 pt 7 ps 1.5 axes x1y1 title "" noenhanced, \
      $series1 using 1:2:3 with labels left offset 0.8,0.4 font ",9" tc rgb "#333333" axes x1y1 notitle noenhanced
-set terminal svg size 1640,328 font "sans,11"
+set terminal svg size 1640,328 font "sans,11" fontscale 1.025 linewidth 1.025
 set output "fig5_force.svg"
 replot
-set terminal pdfcairo size 16.4in,3.28in font "sans,8"
+set terminal pdfcairo size 16.4in,3.28in font "sans,8" fontscale 1.025 linewidth 1.025 pointscale 1.025
 set output "fig5_force.pdf"
 replot
 unset output
