@@ -10,6 +10,7 @@
 #include <tbb/global_control.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -159,6 +160,53 @@ TEST(Sweeps, SimdSumsMatchTheScalarOnesOnRandomNeighbourhoods) {
   }
 }
 
+// The lanes path's sums, lane by lane, are the scalar sums bit for bit, over groups whose lists
+// have 0 to 40 neighbours (a group's lanes of different lengths, a last group short of 8 particles).
+TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
+  if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const size_t n = 45;
+  std::vector<Float4> x(n), v(n);
+  std::vector<float> k(n);
+  for (size_t j = 0; j < n; ++j) {
+    x[j] = Float4{u(rng), u(rng), u(rng), 1.0f + 0.5f * u(rng)};
+    v[j] = Float4{u(rng), u(rng), u(rng), 0.0f};
+    k[j] = u(rng);
+  }
+  NeighborLists lists;
+  lists.resize(n);
+  std::vector<uint32_t>& buffer = lists.chunk(0);
+  std::vector<float>& slopes = lists.slopes(0);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t begin = uint32_t(buffer.size());
+    for (size_t c = (i * 7) % 41; c > 0; --c) {
+      buffer.push_back(uint32_t(rng() % n));
+      slopes.push_back(-1.0f + 0.5f * u(rng));
+    }
+    lists.setRange(i, begin, uint32_t(buffer.size()));
+  }
+  solvers::LaneLists lanes;
+  lanes.build(lists, n);
+  ASSERT_EQ(lanes.groups.size(), (n + 7) / 8);
+  const solvers::SweepTable& path = solvers::sweepTable(SweepIsa::Lanes);
+  for (size_t g = 0; g < lanes.groups.size(); ++g) {
+    float rate[8];
+    Float4 push[8];
+    path.rateLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), v.data(), rate);
+    path.pushLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), k.data(), push);
+    for (size_t i = 8 * g; i < std::min(n, 8 * g + 8); ++i) {
+      const float* s = slopes.data() + lists.offset(i);
+      const Float4 r = solvers::rateSum(lists.begin(i), lists.end(i), s, x.data(), v.data(), x[i], v[i]);
+      const Float4 a = solvers::pushSum(lists.begin(i), lists.end(i), s, x.data(), k.data(), x[i], k[i]);
+      const std::string at = "particle " + std::to_string(i) + ", " + std::to_string(lists.count(i)) + " neighbours";
+      EXPECT_EQ(std::bit_cast<uint32_t>(rate[i - 8 * g]), std::bit_cast<uint32_t>(r[0] + r[1] + r[2])) << at;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_EQ(std::bit_cast<uint32_t>(push[i - 8 * g][c]), std::bit_cast<uint32_t>(a[c])) << at << ", push axis " << c;
+    }
+  }
+}
+
 // Every path's sift finds the scalar path's list, in its order, for ranges of every length.
 TEST(Sweeps, EveryPathSiftsTheSameNeighbours) {
   std::mt19937 rng(11);
@@ -201,6 +249,18 @@ void expectPathsAgree(const SimParams& p, double seconds, bool thrown, const cha
     EXPECT_GT(d, 0.0) << scene << ", " << name << " is a path of its own";
     std::printf("%s, %s against scalar: %.3g m\n", scene, name, d);
   }
+}
+
+// The lanes path's runs are the scalar path's, bit for bit (DFSPH sums with it; IISPH keeps the
+// scalar sums), on 1 and 2 threads.
+TEST(Sweeps, LanesPathRunsAreTheScalarPathsBitForBit) {
+  if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
+  const auto dam = run(damBreak("dfsph"), "scalar", 1, 0.3);
+  EXPECT_TRUE(dam == run(damBreak("dfsph"), "lanes", 1, 0.3)) << "dam break, 1 thread";
+  EXPECT_TRUE(dam == run(damBreak("dfsph"), "lanes", 2, 0.3)) << "dam break, 2 threads";
+  const auto body = run(thrownAtABody(), "scalar", 2, 0.4, true);
+  EXPECT_TRUE(body == run(thrownAtABody(), "lanes", 1, 0.4, true)) << "body as the boundary, 1 thread";
+  EXPECT_TRUE(body == run(thrownAtABody(), "lanes", 2, 0.4, true)) << "body as the boundary, 2 threads";
 }
 
 TEST(Sweeps, DamBreakOnEachPathMatchesTheScalarPath) { expectPathsAgree(damBreak("dfsph"), 0.3, false, "dam break"); }

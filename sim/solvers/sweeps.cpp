@@ -2,6 +2,7 @@
 
 #include <immintrin.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -96,9 +97,12 @@ size_t siftFour(const float* x, const float* y, const float* z, float xi, float 
 
 namespace {
 
-constexpr const char* kNames[] = {"scalar", "avx2", "avx512"};  // by SweepIsa
+constexpr const char* kNames[] = {"scalar", "avx2", "avx512", "lanes"};  // by SweepIsa
 
-constexpr SweepTable kScalar{SweepIsa::Scalar, "scalar", scalarRate, scalarPush, scalarFactor, detail::siftFour};
+constexpr SweepTable kScalar{SweepIsa::Scalar, "scalar", scalarRate, scalarPush, scalarFactor, detail::siftFour,
+                             nullptr, nullptr};
+constexpr SweepTable kLanes{SweepIsa::Lanes, "lanes", scalarRate, scalarPush, scalarFactor, detail::siftFour,
+                            detail::rateLanes, detail::pushLanes};
 
 }  // namespace
 
@@ -108,6 +112,7 @@ bool sweepSupported(SweepIsa isa) {
     case SweepIsa::Avx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     case SweepIsa::Avx512:
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("popcnt") && sweepSupported(SweepIsa::Avx2);
+    case SweepIsa::Lanes: return __builtin_cpu_supports("avx2");
   }
   return false;
 }
@@ -117,6 +122,7 @@ const SweepTable& sweepTable(SweepIsa isa) {
   switch (isa) {
     case SweepIsa::Avx2: return detail::avx2Table();
     case SweepIsa::Avx512: return detail::avx512Table();
+    case SweepIsa::Lanes: return kLanes;
     case SweepIsa::Scalar: break;
   }
   return kScalar;
@@ -126,9 +132,55 @@ const SweepTable& sweepTable() {
   const char* asked = std::getenv("KURAGE_SIMD");
   if (!asked || !*asked) return kScalar;  // the SIMD paths are asked for (header)
   const std::string name(asked);
-  for (SweepIsa isa : {SweepIsa::Scalar, SweepIsa::Avx2, SweepIsa::Avx512})
+  for (SweepIsa isa : {SweepIsa::Scalar, SweepIsa::Avx2, SweepIsa::Avx512, SweepIsa::Lanes})
     if (name == kNames[int(isa)] && sweepSupported(isa)) return sweepTable(isa);
-  throw std::invalid_argument("KURAGE_SIMD=" + name + ": one of \"scalar\", \"avx2\", \"avx512\" that this CPU runs");
+  throw std::invalid_argument("KURAGE_SIMD=" + name +
+                              ": one of \"scalar\", \"avx2\", \"avx512\", \"lanes\" that this CPU runs");
+}
+
+void LaneLists::build(const NeighborLists& neighbors, size_t count) {
+  const size_t chunks = neighbors.chunkCount();
+  rows.resize(chunks);
+  groups.resize((count + kWidth - 1) / kWidth);
+  static_assert(NeighborLists::kChunk % kWidth == 0);
+  tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
+    const size_t firstGroup = ch * NeighborLists::kChunk / kWidth;
+    const size_t lastGroup = std::min(groups.size(), (ch + 1) * NeighborLists::kChunk / kWidth);
+    const float* slopes = neighbors.slopes(ch).data();
+    uint32_t next = 0;
+    for (size_t g = firstGroup; g < lastGroup; ++g) {
+      LaneGroup& group = groups[g];
+      group.first = next;
+      group.rows = 0;
+      for (size_t l = 0; l < kWidth; ++l) {
+        const size_t i = std::min(g * kWidth + l, count - 1);
+        group.self[l] = uint32_t(i);
+        group.count[l] = g * kWidth + l < count ? int32_t(neighbors.count(i)) : 0;
+        group.rows = std::max(group.rows, uint32_t(group.count[l]));
+      }
+      next += group.rows;
+    }
+    std::vector<LaneRow>& out = rows[ch];
+    out.resize(next);  // capacity is kept between steps
+    for (size_t g = firstGroup; g < lastGroup; ++g) {
+      const LaneGroup& group = groups[g];
+      LaneRow* r = out.data() + group.first;
+      for (size_t l = 0; l < kWidth; ++l) {
+        const uint32_t i = group.self[l];
+        const uint32_t* list = neighbors.begin(i);
+        const float* s = slopes + neighbors.offset(i);
+        const uint32_t c = uint32_t(group.count[l]);
+        for (uint32_t k = 0; k < c; ++k) { r[k].idx[l] = list[k]; r[k].slope[l] = s[k]; }
+        for (uint32_t k = c; k < group.rows; ++k) { r[k].idx[l] = i; r[k].slope[l] = 0.0f; }
+      }
+    }
+  });
+}
+
+size_t LaneLists::memoryBytes() const {
+  size_t b = groups.capacity() * sizeof(LaneGroup);
+  for (const auto& r : rows) b += r.capacity() * sizeof(LaneRow);
+  return b;
 }
 
 }  // namespace kurage::sim::solvers

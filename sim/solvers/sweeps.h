@@ -33,10 +33,33 @@
 #include <cstdint>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 namespace kurage::sim::solvers {
 
-enum class SweepIsa { Scalar, Avx2, Avx512 };
+enum class SweepIsa { Scalar, Avx2, Avx512, Lanes };
+
+// The lanes path's lists: eight consecutive particles' lists interleaved, row r holding the r-th
+// neighbour of each (index and s_ij), a group's rows as many as its longest list; past a list's
+// end its lane holds the particle itself with slope 0 (count says where the list ends). Groups
+// start at multiples of 8 and so lie within one NeighborLists chunk, whose rows they share.
+struct alignas(64) LaneRow {
+  uint32_t idx[8];
+  float slope[8];
+};
+struct LaneGroup {
+  uint32_t first, rows;  // its rows in its chunk's
+  uint32_t self[8];      // its particles (the last one repeated past the particle count)
+  int32_t count[8];      // their neighbour counts (0 past the particle count)
+};
+struct LaneLists {
+  std::vector<std::vector<LaneRow>> rows;  // per NeighborLists chunk
+  std::vector<LaneGroup> groups;           // group g: particles [8 g, 8 g + 8)
+  static constexpr size_t kWidth = 8;
+  // From the density pass's lists and slopes (every chunk's slopes filled), for `count` particles.
+  void build(const NeighborLists& neighbors, size_t count);
+  size_t memoryBytes() const;
+};
 
 struct SweepTable {
   SweepIsa isa;
@@ -51,6 +74,11 @@ struct SweepTable {
   // candidate; past the count it may write anything) and returns their count.
   size_t (*sift)(const float* x, const float* y, const float* z, float xi, float yi, float zi, float h2,
                  uint32_t self, const std::array<uint32_t, 2>* ranges, int rangeCount, uint32_t* out);
+  // The lanes path's rate and push for one group's eight particles, lane by lane the scalar sums
+  // rate and push, in list order with the same operations (so the same floats); nullptr on the
+  // other paths. out: 8 rates; 8 pushes (fourth lane 0).
+  void (*rateLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float* out);
+  void (*pushLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* k, Float4* out);
 };
 
 // Whether this CPU (and its OS) runs a path.
@@ -65,6 +93,9 @@ size_t siftFour(const float* x, const float* y, const float* z, float xi, float 
                 const std::array<uint32_t, 2>* ranges, int rangeCount, uint32_t* out);
 const SweepTable& avx2Table();
 const SweepTable& avx512Table();
+// The lanes path's sums (sweeps_avx2.cpp)
+void rateLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float* out);
+void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* k, Float4* out);
 }  // namespace detail
 
 }  // namespace kurage::sim::solvers

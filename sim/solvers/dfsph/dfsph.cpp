@@ -223,6 +223,8 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       relax_[i] = kRelaxation * std::min(1.0f, latticeNeighbours_ / std::max(count, 1.0f));
     }
   });
+  lanes_ = sweeps_.rateLanes && !corrected_;
+  if (lanes_) laneLists_.build(c.neighbors, n);
   ++stats_.steps;
   stats_.torn.count(c.unsolved, n);
   qSum_.assign(n, 0.0f);
@@ -336,6 +338,28 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
   const ParticleSet& p = c.particles;
   const size_t n = p.size();
   const Float4* x = position_.data();
+  // The rate of particle i from its neighbour sum `rate` (sum_j w_j (v_i - v_j) . grad W_ij)
+  const auto finish = [&](size_t i, float rate) {
+    if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
+    if (c.boundaryGradient) {
+      const float* gb = c.boundaryGradient + 3 * i;
+      const Float4 vi = v[i];
+      rate += kMirror * p.restDensity[i] * (vi[0] * gb[0] + vi[1] * gb[1] + vi[2] * gb[2]);  // mirrored wall at rest: see the header
+    }
+    rate_[i] = rate;  // (2017, eq. 9)
+  };
+  if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
+    tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
+      const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
+      const solvers::LaneRow* rows = laneLists_.rows[ch].data();
+      for (size_t i0 = ch * NeighborLists::kChunk; i0 < last; i0 += solvers::LaneLists::kWidth) {
+        alignas(32) float sums[solvers::LaneLists::kWidth];
+        sweeps_.rateLanes(rows, laneLists_.groups[i0 / solvers::LaneLists::kWidth], x, v, sums);
+        for (size_t i = i0; i < std::min(last, i0 + solvers::LaneLists::kWidth); ++i) finish(i, sums[i - i0]);
+      }
+    });
+    return;
+  }
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     const float* s0 = c.neighbors.slopes(ch).data();
@@ -364,12 +388,7 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
         const Float4 r = correctionRows_[3 * i] * t0 + correctionRows_[3 * i + 1] * t1 + correctionRows_[3 * i + 2] * t2;  // rows . T_a
         rate = r[0] + r[1] + r[2];
       }
-      if (form_ == DensitySum::Volume) rate *= p.restDensity[i];
-      if (c.boundaryGradient) {
-        const float* gb = c.boundaryGradient + 3 * i;
-        rate += kMirror * p.restDensity[i] * (vi[0] * gb[0] + vi[1] * gb[1] + vi[2] * gb[2]);  // mirrored wall at rest: see the header
-      }
-      rate_[i] = rate;  // (2017, eq. 9)
+      finish(i, rate);
     }
   });
 }
@@ -390,6 +409,34 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
       pushTerms_[2 * j + 1] = Float4{kw * r[0][2], kw * r[1][2], y[0], y[1]};
       pushZ_[j] = y[2];
     });
+  // v_i's change from particle i's neighbour sum a (sum_j w_j (k_i + k_j) grad W_ij, or its
+  // corrected form)
+  const auto finish = [&](size_t i, Float4 a) {
+    const bool sampled = bodies && bodies->sample[i];
+    if (sampled) a *= kMirror;  // a boundary body's sample: its fluid neighbours' pressures mirrored (header)
+    if (c.boundaryGradient) {
+      const float* gb = c.boundaryGradient + 3 * i;
+      const float s = kMirror * wallWeight(p, i) * k[i];  // psi_b (k_i + k_b), k_b = k_i
+      a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
+    }
+    if (sampled) reaction_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f};
+    if (c.unsolved && c.unsolved[i] == kHeld) return;  // its velocity is the pin's
+    a[3] = 0.0f;  // the weights' lane
+    if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
+    if (sampled) { reaction_[i] = (bodies->share[i] * scale) * a; return; }  // spread below
+    v[i] -= scale * a;  // (2017, eq. 7; header)
+  };
+  if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
+    tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
+      const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
+      const solvers::LaneRow* rows = laneLists_.rows[ch].data();
+      for (size_t i0 = ch * NeighborLists::kChunk; i0 < last; i0 += solvers::LaneLists::kWidth) {
+        Float4 sums[solvers::LaneLists::kWidth];
+        sweeps_.pushLanes(rows, laneLists_.groups[i0 / solvers::LaneLists::kWidth], x, k, sums);
+        for (size_t i = i0; i < std::min(last, i0 + solvers::LaneLists::kWidth); ++i) finish(i, sums[i - i0]);
+      }
+    });
+  } else
   tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     const float* s0 = c.neighbors.slopes(ch).data();
@@ -421,19 +468,7 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
                    m1[0] * xo[0] + m1[1] * xo[1] + m0[2] * xo[2] - y2, 0.0f};
         a += ki * corrected(i, gradientSum_[i]);
       }
-      const bool sampled = bodies && bodies->sample[i];
-      if (sampled) a *= kMirror;  // a boundary body's sample: its fluid neighbours' pressures mirrored (header)
-      if (c.boundaryGradient) {
-        const float* gb = c.boundaryGradient + 3 * i;
-        const float s = kMirror * wallWeight(p, i) * ki;  // psi_b (k_i + k_b), k_b = k_i
-        a += Float4{s * gb[0], s * gb[1], s * gb[2], 0.0f};
-      }
-      if (sampled) reaction_[i] = Float4{0.0f, 0.0f, 0.0f, 0.0f};
-      if (c.unsolved && c.unsolved[i] == kHeld) continue;  // its velocity is the pin's
-      a[3] = 0.0f;  // the weights' lane
-      if (form_ == DensitySum::Volume) a *= 1.0f / p.restDensity[i];
-      if (sampled) { reaction_[i] = (bodies->share[i] * scale) * a; continue; }  // spread below
-      v[i] -= scale * a;  // (2017, eq. 7; header)
+      finish(i, a);
     }
   });
   if (!bodies) return;
@@ -552,6 +587,7 @@ void DfsphSolver::wetWalls(const SolverContext& c, float dt) {
 size_t DfsphSolver::memoryBytes() const {
   size_t b = (position_.capacity() + velocity_.capacity()) * sizeof(Float4) + (invFactor_.capacity() + response_.capacity() + relax_.capacity() + pi_.capacity() + change_.capacity() + rate_.capacity() + piById_.capacity() + qSum_.capacity() + qById_.capacity() + residual_.capacity() + direction_.capacity() + weight_.capacity()) *
              sizeof(float) + active_.capacity() + fixed_.capacity();
+  b += laneLists_.memoryBytes();
   b += (scratch_.capacity() + reaction_.capacity() + correctionRows_.capacity() + gradientSum_.capacity() + pushTerms_.capacity()) * sizeof(Float4) + pushZ_.capacity() * sizeof(float);
   return b;
 }

@@ -135,6 +135,8 @@ private:
   DivergenceSolve divergenceSolve_;
   const solvers::SweepTable& sweeps_;  // the sweeps' neighbour sums (sweeps.h)
   bool scalarSums_;                    // its sums are the scalar path's: called inline
+  bool lanes_ = false;                 // per step: the sums by sweeps_'s lanes (uncorrected gradient)
+  solvers::LaneLists laneLists_;       // their interleaved lists, per step
   // During the solves (positions do not move, velocities are the unknowns' image): per particle
   // (x, y, z, w_j), w_j the density rate's weight (m_j, or m_j / rho0_j for density_sum
   // "volume"), and (vx, vy, vz, 0); written back to the particles after each solve.
