@@ -50,21 +50,14 @@ struct Avx2 {
 }  // namespace
 
 // The lanes path (sweeps.h): lane l sums particle g.self[l]'s list, row by row, with the scalar
-// sums' operations in their order (this file fuses no multiply and add it does not write); a row
-// past the lane's count leaves its sums as they are (a blend, not +0, which would turn a -0 sum +0).
+// sums' operations in their order (this file fuses no multiply and add it does not write). A row
+// past the lane's list adds the particle's own record at slope 0: a term +-0, which leaves every
+// sum as it is (a sum from +0 is never -0: x + +-0 = x for x != -0).
 namespace {
-// x, y, z and w of the records r[idx[0..8)] (hardware gathers, or 128-bit loads transposed)
+// x, y, z and w of the records r[idx[0..8)]: 128-bit loads transposed (AMD's hardware gathers,
+// one element a cycle or slower, cost more)
 inline void lanesOf(const Float4* r, const uint32_t* idx, __m256& a, __m256& b, __m256& c, __m256& d) {
-#if defined(KURAGE_LANES_GATHER)
-  const __m256i at = _mm256_slli_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(idx)), 2);
-  const float* f = reinterpret_cast<const float*>(r);
-  a = _mm256_i32gather_ps(f, at, 4);
-  b = _mm256_i32gather_ps(f + 1, at, 4);
-  c = _mm256_i32gather_ps(f + 2, at, 4);
-  d = _mm256_i32gather_ps(f + 3, at, 4);
-#else
   Avx2::records(r, idx, a, b, c, d);
-#endif
 }
 }  // namespace
 
@@ -73,11 +66,9 @@ void rateLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const F
   __m256 Xi, Yi, Zi, Wi, Ui, Vi, Ti, unused;
   lanesOf(x, g.self, Xi, Yi, Zi, Wi);
   lanesOf(v, g.self, Ui, Vi, Ti, unused);
-  const __m256i count = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(g.count));
   __m256 sx = _mm256_setzero_ps(), sy = sx, sz = sx;
   for (uint32_t k = 0; k < g.rows; ++k) {
     const LaneRow& row = rows[g.first + k];
-    const __m256 in = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, _mm256_set1_epi32(int(k))));
     const __m256 s = _mm256_load_ps(row.slope);
     __m256 X, Y, Z, W, U, V, T;
     lanesOf(x, row.idx, X, Y, Z, W);
@@ -86,9 +77,9 @@ void rateLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const F
     const __m256 tx = _mm256_mul_ps(W, _mm256_mul_ps(_mm256_sub_ps(Ui, U), _mm256_mul_ps(s, _mm256_sub_ps(Xi, X))));
     const __m256 ty = _mm256_mul_ps(W, _mm256_mul_ps(_mm256_sub_ps(Vi, V), _mm256_mul_ps(s, _mm256_sub_ps(Yi, Y))));
     const __m256 tz = _mm256_mul_ps(W, _mm256_mul_ps(_mm256_sub_ps(Ti, T), _mm256_mul_ps(s, _mm256_sub_ps(Zi, Z))));
-    sx = _mm256_blendv_ps(sx, _mm256_add_ps(sx, tx), in);
-    sy = _mm256_blendv_ps(sy, _mm256_add_ps(sy, ty), in);
-    sz = _mm256_blendv_ps(sz, _mm256_add_ps(sz, tz), in);
+    sx = _mm256_add_ps(sx, tx);
+    sy = _mm256_add_ps(sy, ty);
+    sz = _mm256_add_ps(sz, tz);
   }
   _mm256_storeu_ps(out, _mm256_add_ps(_mm256_add_ps(sx, sy), sz));
 }
@@ -98,19 +89,18 @@ void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const f
   lanesOf(x, g.self, Xi, Yi, Zi, Wi);
   const __m256i self = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(g.self));
   const __m256 Ki = _mm256_i32gather_ps(k, self, 4);
-  const __m256i count = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(g.count));
   __m256 ax = _mm256_setzero_ps(), ay = ax, az = ax;
   for (uint32_t r = 0; r < g.rows; ++r) {
     const LaneRow& row = rows[g.first + r];
-    const __m256 in = _mm256_castsi256_ps(_mm256_cmpgt_epi32(count, _mm256_set1_epi32(int(r))));
     const __m256 s = _mm256_load_ps(row.slope);
     __m256 X, Y, Z, W;
     lanesOf(x, row.idx, X, Y, Z, W);
-    const __m256 Kj = _mm256_i32gather_ps(k, _mm256_load_si256(reinterpret_cast<const __m256i*>(row.idx)), 4);
+    const uint32_t* j = row.idx;  // k_j by eight loads (not a gather: above)
+    const __m256 Kj = _mm256_setr_ps(k[j[0]], k[j[1]], k[j[2]], k[j[3]], k[j[4]], k[j[5]], k[j[6]], k[j[7]]);
     const __m256 c = _mm256_mul_ps(s, _mm256_mul_ps(W, _mm256_add_ps(Ki, Kj)));  // s_ij (w_j (k_i + k_j))
-    ax = _mm256_blendv_ps(ax, _mm256_add_ps(ax, _mm256_mul_ps(c, _mm256_sub_ps(Xi, X))), in);
-    ay = _mm256_blendv_ps(ay, _mm256_add_ps(ay, _mm256_mul_ps(c, _mm256_sub_ps(Yi, Y))), in);
-    az = _mm256_blendv_ps(az, _mm256_add_ps(az, _mm256_mul_ps(c, _mm256_sub_ps(Zi, Z))), in);
+    ax = _mm256_add_ps(ax, _mm256_mul_ps(c, _mm256_sub_ps(Xi, X)));
+    ay = _mm256_add_ps(ay, _mm256_mul_ps(c, _mm256_sub_ps(Yi, Y)));
+    az = _mm256_add_ps(az, _mm256_mul_ps(c, _mm256_sub_ps(Zi, Z)));
   }
   alignas(32) float px[8], py[8], pz[8];
   _mm256_store_ps(px, ax);
