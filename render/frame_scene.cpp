@@ -104,7 +104,7 @@ Vector3f FrameScene::transmittance(Vector3f origin, const Vector3f& direction, f
     if (leaving) through = through.cwiseProduct((-m.absorption * t).array().exp().matrix());
     etendue *= leaving ? 1.0f / (m.ior * m.ior) : m.ior * m.ior;
     if (through.maxCoeff() <= 0.0f) return Vector3f::Zero();
-    origin = hit.point + (leaving ? epsilon : -epsilon) * hit.ng;
+    origin = leave(hit, direction);
     tfar = tfar == kInfinity ? kInfinity : tfar - t;
     if (!(tfar > 0.0f)) return through * etendue;
   }

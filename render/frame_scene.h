@@ -30,6 +30,8 @@
 
 #include <Eigen/Core>
 
+#include <algorithm>
+
 namespace kurage::render {
 
 struct FrameScene {
@@ -45,7 +47,8 @@ struct FrameScene {
   Eigen::Vector3f transmittance(Eigen::Vector3f origin, const Eigen::Vector3f& direction, float tfar,
                                 RayCounters& counters) const;
   // Whether the infinite ground stands in the way of the ray (shadow rays ignore it otherwise: it
-  // casts no shadows, but the sky below its horizon must not light anything above it).
+  // casts no shadows, but the sky below its horizon must not light anything above it). `origin`
+  // must be off the ground (leave()): a point computed on it lies a rounding error above or below.
   bool groundBlocks(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction) const;
   // The hit's albedo box-filtered over the footprint of a ray cone (Amanatides 1984; Akenine-Moller
   // et al. 2021, "Improved shader and texture level of detail using ray cones", JCGT 10(1)) of
@@ -56,11 +59,20 @@ struct FrameScene {
   // material's 3-D checker in x, y, z (materials.h); hit.albedo where there is no checker or the
   // width is 0.
   Eigen::Vector3f filteredAlbedo(const Hit& hit, const Eigen::Vector3f& direction, float width) const;
-  // Where a ray leaving the hit in direction wi starts: the point moved by epsilon along ng to
-  // wi's side.
+  // Where a ray leaving the hit in direction wi starts: the point moved along ng to wi's side by
+  // offset(hit).
   Eigen::Vector3f leave(const Hit& hit, const Eigen::Vector3f& wi) const {
-    return hit.point + (wi.dot(hit.ng) > 0.0f ? epsilon : -epsilon) * hit.ng;
+    const float d = offset(hit);
+    return hit.point + (wi.dot(hit.ng) > 0.0f ? d : -d) * hit.ng;
   }
+  // The distance a leaving ray's origin is moved off the surface: epsilon, or, where larger, a
+  // bound on the rounding error of the point computed as o + t d (each coordinate off by at most a
+  // few ulps of |o| + t <= |p| + 2t, as in pbrt-v4's error bounds, Pharr et al. 2023, sec. 6.8), so
+  // that a far point of the ground or of a large surface does not find itself again.
+  float offset(const Hit& hit) const {
+    return std::max(epsilon, kOffsetUlps * (hit.point.cwiseAbs().maxCoeff() + 2.0f * hit.t));
+  }
+  static constexpr float kOffsetUlps = 16.0f * 0x1p-24f;  // 16 ulps of float's unit roundoff
 
   const RenderScene& input;
   const EmbreeScene& geometry;

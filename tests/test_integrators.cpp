@@ -185,6 +185,35 @@ TEST(Whitted, DiffuseGroundUnderSunIsAlbedoTimesIrradianceCosOverPi) {
           << x << "," << y << ": " << image.at(x, y).head<3>().transpose();
 }
 
+TEST(Whitted, FarGroundUnderAUniformSkyIsAlbedoTimesRadianceEverywhere) {
+  // A plain ground (albedo 0.5) under a uniform sky of radiance 1, no sun, seen at a grazing
+  // angle out to about 20 km: every sky direction of every ground pixel reaches the sky, so each
+  // pixel is exactly 0.5. A shading point computed a rounding error below the ground (which grows
+  // with distance) must not find the ground in the way of its own sky rays.
+  kr::RenderScene scene = kurage::test::furnaceScene(40.0f);
+  scene.ground.enabled = true;
+  scene.ground.checkerSize = 0.0f;
+  scene.ground.albedoA = Vector3f::Constant(0.5f);
+  scene.camera.position = {3, -7, 27};
+  scene.camera.lookAt = {3.1f, 60, 0};
+  kr::RenderSettings settings;
+  settings.integrator = kr::IntegratorType::Whitted;
+  settings.width = 64;
+  settings.height = 48;
+  settings.samplesPerPixel = 1;
+  settings.whitted.skyDirections = 8;
+  settings.transparentBackground = true;  // alpha tells the ground from the sky
+  const kr::Image image = kr::renderFrame(scene, settings);
+  int ground = 0;
+  for (int y = 0; y < settings.height; ++y)
+    for (int x = 0; x < settings.width; ++x) {
+      if (image.at(x, y).w() == 0.0f) continue;  // the sky
+      ++ground;
+      ASSERT_NEAR(image.at(x, y).x(), 0.5f, 1e-5f) << "pixel " << x << "," << y;
+    }
+  EXPECT_GT(ground, settings.width * settings.height / 2);
+}
+
 TEST(Whitted, GlassSlabTransmitsFresnelSeriesWithAbsorption) {
   // A slab of glass (n = 1.5, thickness d, absorption sigma) in front of an area light of
   // radiance 1, seen through its face at 0 and at 40 degrees (the exit ray is parallel to the

@@ -6,6 +6,9 @@
 // in test_render_validation.cpp.
 #include "render/renderer.h"
 
+#include "render/embree_scene.h"
+#include "render/frame_scene.h"
+
 #include "pipeline/io/files.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/stages.h"
@@ -125,6 +128,39 @@ TEST(Tracer, EmptySceneShowsSkyGradient) {
   // Below the horizon the sky is the horizon colour; everything is opaque.
   EXPECT_LT((rgb(image, cx, settings.height - 1) - scene.environment.horizon).norm(), 1e-5f);
   EXPECT_EQ(image.at(0, 0)[3], 1.0f);
+}
+
+TEST(FrameScene, RaysLeavingTheGroundUpwardsAreNotBlockedByItAtAnyDistance) {
+  // Points on a tilted ground from 30 m to 100 km from a camera 27 m above it: the point computed
+  // as o + t d lies a rounding error above or below the plane (growing with the distance, as the
+  // plane's normal is not an axis), so the ground seems to block rays that leave it from there;
+  // from where leave() puts their origin it never does.
+  kr::RenderScene scene;
+  scene.ground.normal = Vector3f(0.3f, 0.1f, 1.0f);
+  kr::EmbreeScene geometry;
+  geometry.update(scene);
+  const kr::EnvironmentSampler none;
+  const kr::FrameScene frame(scene, geometry, none, false);
+  const Vector3f n = scene.ground.normal.normalized();
+  const Vector3f eye(10, -22, 27);
+  kr::RayCounters counters;
+  int blockedAtThePoint = 0, blockedAfterLeaving = 0;
+  constexpr int kPoints = 2000;
+  for (int i = 0; i < kPoints; ++i) {
+    const float distance = 30.0f * std::pow(1e5f / 30.0f, float(i) / (kPoints - 1));
+    const float phi = 0.37f * float(i);
+    const Vector3f along(std::cos(phi), std::sin(phi), 0);
+    const Vector3f onPlane = (along - along.dot(n) * n).normalized();
+    const Vector3f target = (eye - eye.dot(n) * n) + distance * onPlane;
+    const kr::Hit hit = frame.intersect(eye, (target - eye).normalized(), counters);
+    ASSERT_EQ(hit.kind, kr::Hit::Ground) << i;
+    const Vector3f across = Vector3f(std::cos(3.0f * phi), std::sin(3.0f * phi), 0);
+    const Vector3f up = ((across - across.dot(n) * n).normalized() + (0.02f + 0.5f * float(i % 7)) * n).normalized();
+    blockedAtThePoint += frame.groundBlocks(hit.point, up) ? 1 : 0;
+    blockedAfterLeaving += frame.groundBlocks(frame.leave(hit, up), up) ? 1 : 0;
+  }
+  EXPECT_GT(blockedAtThePoint, kPoints / 10);  // the rounding this guards against is real
+  EXPECT_EQ(blockedAfterLeaving, 0);
 }
 
 TEST(Tracer, SunLitTriangleHasAlbedoOverPiTimesIrradiance) {

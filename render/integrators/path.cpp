@@ -113,10 +113,11 @@ Vector3f PathIntegrator::directLight(const Hit& hit, const Vector3f& wo, PixelSa
     const Vector3f wi = f.environment.sample(e1, e2, pdfLight);
     if (pdfLight > 0.0f) {
       const Vector3f fcos = evaluateDiffuseLobe(material, hit.albedo, wo, wi, hit.ns, hit.ng);
-      if (fcos.maxCoeff() > 0.0f && !f.groundBlocks(hit.point, wi)) {
+      const Vector3f from = f.leave(hit, wi);
+      if (fcos.maxCoeff() > 0.0f && !f.groundBlocks(from, wi)) {
         const float weight = powerHeuristic(pdfLight, diffuseLobePdf(material, wo, wi, hit.ns, hit.ng)) / pdfLight;
         sum += fcos.cwiseProduct(environmentRadiance(f.input.environment, wi))
-                   .cwiseProduct(f.transmittance(f.leave(hit, wi), wi, kInfinity, counters)) *
+                   .cwiseProduct(f.transmittance(from, wi, kInfinity, counters)) *
                weight;
       }
     }

@@ -177,8 +177,10 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const
   for (size_t k = size_t(sample.index % samples); k < set.size(); k += size_t(samples)) {
     const Vector2f& u = set[k];
     const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
-    if (wi.dot(g) <= 0.0f || f.groundBlocks(hit.point, wi)) continue;
-    sky += environmentRadiance(f.input.environment, wi).cwiseProduct(f.transmittance(f.leave(hit, wi), wi, kInfinity, counters));
+    if (wi.dot(g) <= 0.0f) continue;
+    const Vector3f from = f.leave(hit, wi);
+    if (f.groundBlocks(from, wi)) continue;
+    sky += environmentRadiance(f.input.environment, wi).cwiseProduct(f.transmittance(from, wi, kInfinity, counters));
   }
   if (!set.empty()) sum += albedo.cwiseProduct(sky) * (float(samples) / float(set.size()));
   return sum;
