@@ -136,6 +136,13 @@ Vector3f FrameScene::filteredAlbedo(const Hit& hit, const Vector3f& direction, f
   return checkerBlend(parity, g.albedoA, g.albedoB);
 }
 
+Vector3f FrameScene::meanAlbedo(const Hit& hit) const {
+  const Ground& g = input.ground;
+  if (hit.kind == Hit::Ground) return g.checkerSize > 0.0f ? checkerBlend(0.0, g.albedoA, g.albedoB) : hit.albedo;
+  const Material* m = hit.material;
+  return m && m->checkerSize > 0.0f ? checkerBlend(0.0, m->albedo, m->albedoB) : hit.albedo;
+}
+
 bool FrameScene::groundBlocks(const Vector3f& origin, const Vector3f& direction) const {
   if (!input.ground.enabled) return false;
   const float denominator = direction.dot(groundNormal);

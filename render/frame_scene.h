@@ -59,6 +59,9 @@ struct FrameScene {
   // material's 3-D checker in x, y, z (materials.h); hit.albedo where there is no checker or the
   // width is 0.
   Eigen::Vector3f filteredAlbedo(const Hit& hit, const Eigen::Vector3f& direction, float width) const;
+  // The hit's albedo with a checker (the ground's or a material's) replaced by the mean of its
+  // two colours, the limit of filteredAlbedo over a wide footprint; hit.albedo otherwise.
+  Eigen::Vector3f meanAlbedo(const Hit& hit) const;
   // Where a ray leaving the hit in direction wi starts: the point moved along ng to wi's side by
   // offset(hit).
   Eigen::Vector3f leave(const Hit& hit, const Eigen::Vector3f& wi) const {

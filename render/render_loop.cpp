@@ -21,13 +21,14 @@ constexpr int kTileSize = 16;
 // What a pixel's samples add up to.
 struct PixelSums {
   Vector3f sum = Vector3f::Zero(), albedo = Vector3f::Zero(), normal = Vector3f::Zero(), sun = Vector3f::Zero();
+  Vector3f edge = Vector3f::Zero();  // PathFeatures::edge, summed
   int covered = 0;  // samples whose camera ray met something
   int n = 0;
   double lumSum = 0.0, lumSquares = 0.0;
 };
 
 // A pixel's colour clamped to [0, 1] and sRGB-encoded, with its alpha: what edge-adaptive
-// anti-aliasing compares.
+// anti-aliasing compares (of the samples' PathFeatures::edge).
 Eigen::Vector4f shown(const Eigen::Vector4f& pixel) {
   return {linearToSrgb(std::clamp(pixel.x(), 0.0f, 1.0f)), linearToSrgb(std::clamp(pixel.y(), 0.0f, 1.0f)),
           linearToSrgb(std::clamp(pixel.z(), 0.0f, 1.0f)), pixel.w()};
@@ -52,8 +53,9 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
   const bool transparent = settings.transparentBackground;
 
   // Samples first .. last - 1 of pixel (x, y), of a sequence of `length` (0: open-ended), added to
-  // `p`.
-  const auto takeSamples = [&](int x, int y, int first, int last, int length, PixelSums& p, RayCounters& counters) {
+  // `p`; with `edges`, their PathFeatures too (whatever `features` says).
+  const auto takeSamples = [&](int x, int y, int first, int last, int length, PixelSums& p, RayCounters& counters,
+                               bool edges = false) {
     const uint32_t pixel = static_cast<uint32_t>(y) * static_cast<uint32_t>(width) + static_cast<uint32_t>(x);
     for (int s = first; s < last; ++s) {
       PixelSampler rng(pixel, static_cast<uint32_t>(s), seed);
@@ -65,11 +67,12 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
       bool hitSomething = false;
       PathFeatures pf;
       const Vector3f value =
-          integrator.radiance(origin, direction, s, length, rng, counters, hitSomething, features ? &pf : nullptr);
+          integrator.radiance(origin, direction, s, length, rng, counters, hitSomething, features || edges ? &pf : nullptr);
       p.sum += value;
       p.albedo += pf.albedo;
       p.normal += pf.normal;
       p.sun += pf.sun;
+      p.edge += pf.edge;
       p.covered += hitSomething ? 1 : 0;
       const double lum = 0.2126 * value.x() + 0.7152 * value.y() + 0.0722 * value.z();
       p.lumSum += lum;
@@ -143,9 +146,12 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
     std::vector<Eigen::Vector4f> values(size_t(width) * size_t(height));
     forPixels({}, [&](int x, int y, RayCounters& counters) {
       PixelSums p;
-      takeSamples(x, y, 0, first, first, p, counters);
+      takeSamples(x, y, 0, first, first, p, counters, true);
       finish(x, y, p);
-      values[size_t(y) * size_t(width) + size_t(x)] = shown(image.at(x, y));
+      const float alpha = image.at(x, y).w();
+      const int parts = transparent ? p.covered : p.n;
+      const Vector3f edge = parts > 0 ? Vector3f(p.edge / float(parts)) : Vector3f::Zero();
+      values[size_t(y) * size_t(width) + size_t(x)] = shown({edge.x(), edge.y(), edge.z(), alpha});
     });
     std::vector<uint8_t> refine(values.size(), 0);
     for (int y = 0; y < height; ++y)

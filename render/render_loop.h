@@ -10,9 +10,9 @@
 //
 // Edge-adaptive anti-aliasing (integrators without noise; EdgeAdaptiveSettings, renderer.h): a
 // first pass renders every pixel with minSamples samples (the uniform sample set of that count);
-// both pixels of a horizontally or vertically adjacent pair are marked where their values differ
-// by more than the threshold in some channel (clamped sRGB-encoded colour and alpha, as PNG shows
-// them); a second pass renders the marked pixels again with samplesPerPixel samples, the uniform
+// both pixels of a horizontally or vertically adjacent pair are marked where their edge values
+// (the mean of the samples' PathFeatures::edge, with the pixel's alpha) differ by more than the
+// threshold in some channel (clamped and sRGB-encoded, as PNG shows a colour); a second pass renders the marked pixels again with samplesPerPixel samples, the uniform
 // set of that count, dropping their first ones. The marks depend only on the first pass, so the
 // image still depends on neither the thread count nor the tile order. Cost: minSamples per pixel, plus samplesPerPixel
 // per marked pixel (an edge marks 2 to 3 pixels per pixel of its length).

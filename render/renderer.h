@@ -36,10 +36,11 @@ namespace kurage::render {
 enum class IntegratorType { Path, Whitted };
 
 // Edge-adaptive anti-aliasing (integrators without noise: whitted; render_loop.h): every pixel
-// first takes minSamples sub-pixel samples; a pixel whose value differs from one of its four
-// neighbours' by more than threshold in some channel (sRGB-encoded, clamped to [0, 1]; alpha with
-// a transparent background) is rendered again with samplesPerPixel samples, which replace its
-// first ones. Each pixel is then exactly the uniform render's pixel at minSamples or at
+// first takes minSamples sub-pixel samples; a pixel whose edge value (whitted: its colour with
+// every filtered checker at its mean colour, so that only geometry, shadows and plain colours
+// count) differs from one of its four neighbours' by more than threshold in some channel
+// (sRGB-encoded, clamped to [0, 1]; alpha with a transparent background) is rendered again with
+// samplesPerPixel samples, which replace its first ones. Each pixel is then exactly the uniform render's pixel at minSamples or at
 // samplesPerPixel; uniform when minSamples >= samplesPerPixel. A pixel's own samples are no test:
 // whitted's samples differ in their sky directions as well as in their positions. Off by default
 // (what it gains on the jellyfish: docs/notebook/rendering.md).

@@ -532,6 +532,47 @@ TEST(Whitted, AdaptiveAntiAliasingSamplesTheEdgeAndLeavesFlatRegionsAtTheMinimum
   EXPECT_EQ(stats.samples, uint64_t(2 * settings.width * settings.height + 16 * refined));
 }
 
+TEST(Whitted, AdaptiveAntiAliasingLeavesFilteredCheckerEdgesAtTheMinimum) {
+  // A high-contrast checker ground (cells of 0.37 m, albedo 0.9 and 0.1) seen from above under a
+  // sun overhead: the cone filter already averages each pixel's cells, so no pixel is refined and
+  // the image is the uniform 2-sample render. Point-sampled, the checker's edges are refined.
+  kr::RenderScene scene;
+  scene.environment.type = kr::EnvironmentType::Uniform;
+  scene.environment.zenith = Vector3f::Zero();
+  scene.sun.direction = {0, 0, -1};
+  scene.sun.angularDiameterDegrees = 0.0f;
+  scene.sun.irradiance = Vector3f::Ones();
+  scene.ground.checkerSize = 0.37f;
+  scene.ground.albedoA = Vector3f::Constant(0.9f);
+  scene.ground.albedoB = Vector3f::Constant(0.1f);
+  scene.camera.position = {0.3f, 0.1f, 20};
+  scene.camera.lookAt = {0.3f, 0.1f, 0};
+  scene.camera.up = {0.2f, 1, 0};
+  scene.camera.verticalFovDegrees = 2.0f * std::atan(4.0f / 20.0f) * 180.0f / kPi;  // 8 m across
+  kr::RenderSettings settings;
+  settings.integrator = kr::IntegratorType::Whitted;
+  settings.width = 40;
+  settings.height = 32;
+  for (const bool filter : {true, false}) {
+    settings.whitted.filterTextures = filter;
+    settings.whitted.adaptive.enabled = false;
+    settings.samplesPerPixel = 2;
+    const kr::Image two = kr::renderFrame(scene, settings);
+    settings.samplesPerPixel = 16;
+    settings.whitted.adaptive = {true, 0.02f, 2};
+    kr::RenderStats stats;
+    const kr::Image adaptive = kr::renderFrame(scene, settings, &stats);
+    const auto refined = std::count(stats.pixelSamples.begin(), stats.pixelSamples.end(), 18u);
+    if (filter) {
+      EXPECT_EQ(refined, 0);
+      for (int y = 0; y < settings.height; ++y)
+        for (int x = 0; x < settings.width; ++x) ASSERT_EQ(adaptive.at(x, y), two.at(x, y)) << x << "," << y;
+    } else {
+      EXPECT_GT(refined, settings.width * settings.height / 4);  // about 4 cells' edges a row
+    }
+  }
+}
+
 TEST(Adaptive, TakesMinSamplesWithoutNoiseAndReachesTheErrorWithIt) {
   kr::RenderSettings settings;
   settings.width = 24;

@@ -115,7 +115,8 @@ std::vector<BenchRow> rmseRows() {
                       }});
   for (const auto& [threshold, lo, hi] : {std::tuple{0.02f, 1, 16}, std::tuple{0.04f, 1, 16}, std::tuple{0.02f, 2, 16},
                                           std::tuple{0.04f, 2, 16}, std::tuple{0.08f, 2, 16}, std::tuple{0.02f, 2, 8},
-                                          std::tuple{0.04f, 2, 32}})
+                                          std::tuple{0.04f, 2, 32}, std::tuple{0.01f, 2, 16}, std::tuple{0.01f, 4, 16},
+                                          std::tuple{0.02f, 4, 16}, std::tuple{0.04f, 4, 16}, std::tuple{0.02f, 4, 32}})
     rows.push_back({"whitted, adaptive " + std::to_string(threshold).substr(0, 4) + ", " + std::to_string(lo) + "-" +
                         std::to_string(hi) + " spp, 4 sky rays",
                     [threshold, lo, hi](S& s) {

@@ -36,11 +36,14 @@ struct CameraSample {
 
 // The denoiser's features of one camera path (denoise.h): albedo and normal at its first
 // non-specular vertex, the albedo times the specular chain's throughput before it, and the sun's
-// direct light there times that throughput (its share of the path's radiance).
+// direct light there times that throughput (its share of the path's radiance). `edge`: what
+// edge-adaptive anti-aliasing compares between neighbours (render_loop.h), set by integrators
+// without noise (whitted: the radiance with filtered checkers at their mean colour).
 struct PathFeatures {
   Eigen::Vector3f albedo = Eigen::Vector3f::Zero();
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();
   Eigen::Vector3f sun = Eigen::Vector3f::Zero();
+  Eigen::Vector3f edge = Eigen::Vector3f::Zero();
 };
 
 class Integrator {

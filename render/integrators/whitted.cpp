@@ -29,7 +29,9 @@
 // eta_i / eta_t (Snell's law at normal incidence); surface curvature is ignored. A checker is
 // averaged over the cone's footprint in closed form (FrameScene::filteredAlbedo), so a far
 // checker ground converges to its mean where point samples alias. The sun, lights and sky are
-// not filtered.
+// not filtered. Alongside the radiance each ray returns its edge value (PathFeatures::edge, what
+// edge-adaptive anti-aliasing compares): the same tree with every filtered checker's albedo at
+// the mean of its two colours, so a checker's edges, which the filter handles, do not count.
 //
 // Camera samples: samplesPerPixel fixed sub-pixel positions of a Hammersley set shifted half a
 // stratum in ((s + 1/2)/n, frac(radicalInverse2(s) + 1/2n)), the lens point the same two numbers
@@ -82,13 +84,15 @@ public:
   }
 
   Vector3f radiance(const Vector3f& origin, const Vector3f& direction, int s, int n, PixelSampler&,
-                    RayCounters& counters, bool& hitSomething, PathFeatures*) const override {
+                    RayCounters& counters, bool& hitSomething, PathFeatures* features) const override {
     const float cosine = std::max(0.0f, forward_.dot(direction));
     const Cone cone{0.0f, pixelAngle_ * cosine * std::sqrt(cosine)};
     const SkySet* sky = &skySets_.front();
     for (const SkySet& set : skySets_)
       if (set.samples == n) sky = &set;
-    return trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, {s, sky}, counters, &hitSomething);
+    const Traced traced = trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, {s, sky}, counters, &hitSomething);
+    if (features) features->edge = traced.edge;
+    return traced.value;
   }
 
 private:
@@ -101,6 +105,12 @@ private:
   struct SkySet {
     int samples = 1;
     std::vector<Vector2f> points;
+  };
+  // A ray's radiance, and the same with every checker's albedo replaced by the mean of its two
+  // colours where textures are filtered (what edge-adaptive anti-aliasing compares: the cone
+  // filter already averages a checker's edges; geometry, shadows and plain colours remain).
+  struct Traced {
+    Vector3f value = Vector3f::Zero(), edge = Vector3f::Zero();
   };
   // The camera sample a ray belongs to: its index and its count's sky set.
   struct Sample {
@@ -116,9 +126,8 @@ private:
     }
     skySets_.push_back(std::move(set));
   }
-  Vector3f direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, const Sample& sample,
-                  RayCounters& counters) const;
-  Vector3f trace(const Vector3f& origin, const Vector3f& direction, int depth, const Vector3f& absorption,
+  Vector3f direct(const Hit& hit, const Vector3f& wo, const Sample& sample, RayCounters& counters) const;
+  Traced trace(const Vector3f& origin, const Vector3f& direction, int depth, const Vector3f& absorption,
                  float weight, const Cone& cone, const Sample& sample, RayCounters& counters, bool* hitSomething) const;
 
   const FrameScene& f_;
@@ -128,11 +137,12 @@ private:
   float pixelAngle_ = 0.0f;  // a pixel's cone spread on the axis, radians (0: no filtering)
 };
 
-// Direct light at a diffuse point of the given albedo, no noise: the sun along its centre
+// Direct light at a diffuse point of albedo 1 (the caller multiplies by its albedo), no noise:
+// the sun along its centre
 // direction, each area light at the centres of an n x n grid, the sky along the fixed
 // cosine-distributed directions about the shading normal that belong to the pixel's sample
 // `sample` (its SkySet), turned to wo's side.
-Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const Vector3f& wo, const Sample& sample,
+Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& wo, const Sample& sample,
                                    RayCounters& counters) const {
   const FrameScene& f = f_;
   const bool outside = wo.dot(hit.ng) >= 0.0f;
@@ -141,7 +151,7 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const
   if (!(wo.dot(n) > 1e-6f)) n = g;
   const float invPi = 1.0f / std::numbers::pi_v<float>;
   const auto fcos = [&](const Vector3f& wi) {
-    return wi.dot(g) > 0.0f ? Vector3f(albedo * (invPi * std::max(0.0f, wi.dot(n)))) : Vector3f::Zero();
+    return wi.dot(g) > 0.0f ? Vector3f::Constant(invPi * std::max(0.0f, wi.dot(n))) : Vector3f::Zero();
   };
   Vector3f sum = Vector3f::Zero();
   if (f.sunOn) {
@@ -182,36 +192,40 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& albedo, const
     if (f.groundBlocks(from, wi)) continue;
     sky += environmentRadiance(f.input.environment, wi).cwiseProduct(f.transmittance(from, wi, kInfinity, counters));
   }
-  if (!set.empty()) sum += albedo.cwiseProduct(sky) * (float(samples) / float(set.size()));
+  if (!set.empty()) sum += sky * (float(samples) / float(set.size()));
   return sum;
 }
 
 // Radiance along a ray; `weight` is the product of the Fresnel and mirror factors so far (for the
 // cutoff), `absorption` the medium's coefficient (0: air).
-Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direction, int depth,
-                                  const Vector3f& absorption, float weight, const Cone& cone, const Sample& sample,
-                                  RayCounters& counters, bool* hitSomething) const {
+WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direction, int depth,
+                                                  const Vector3f& absorption, float weight, const Cone& cone,
+                                                  const Sample& sample, RayCounters& counters,
+                                                  bool* hitSomething) const {
   const FrameScene& f = f_;
   const Hit hit = f.intersect(origin, direction, counters);
   if (hitSomething) *hitSomething = hit.kind != Hit::None;
   if (hit.kind == Hit::None) {
-    if (depth == 0 && settings_.transparentBackground) return Vector3f::Zero();
+    if (depth == 0 && settings_.transparentBackground) return {};
     Vector3f l = environmentRadiance(f.input.environment, direction);
     if (f.sunOn && f.sunCosMax < 1.0f && direction.dot(f.toSun) >= f.sunCosMax) l += f.sunRadiance;
-    return l;
+    return {l, l};
   }
   const Vector3f attenuation =
       absorption.maxCoeff() > 0.0f ? Vector3f((-absorption * hit.t).array().exp().matrix()) : Vector3f::Ones();
-  if (hit.kind == Hit::Light)
-    return direction.dot(hit.ng) < 0.0f
-               ? Vector3f(attenuation.cwiseProduct(f.input.rectLights[size_t(hit.light)].radiance))
-               : Vector3f::Zero();
-  if (depth >= settings_.maxDepth) return Vector3f::Zero();
+  if (hit.kind == Hit::Light) {
+    if (!(direction.dot(hit.ng) < 0.0f)) return {};
+    const Vector3f l = attenuation.cwiseProduct(f.input.rectLights[size_t(hit.light)].radiance);
+    return {l, l};
+  }
+  if (depth >= settings_.maxDepth) return {};
   const Material& material = hit.material ? *hit.material : kGroundMaterial;
   const Vector3f wo = -direction;
   const float width = cone.width + cone.spread * hit.t;
-  const Vector3f albedo = cone.spread > 0.0f ? f.filteredAlbedo(hit, direction, width) : hit.albedo;
-  Vector3f radiance = Vector3f::Zero();
+  const bool filtered = cone.spread > 0.0f;
+  const Vector3f albedo = filtered ? f.filteredAlbedo(hit, direction, width) : hit.albedo;
+  const Vector3f edgeAlbedo = filtered ? f.meanAlbedo(hit) : albedo;
+  Traced radiance;
   const auto follow = [&](const ScatterSample& s, const Vector3f& factor) {
     const float branch = weight * factor.maxCoeff();
     if (!(branch >= kWhittedCutoff)) return;
@@ -222,8 +236,9 @@ Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direct
       medium = entering ? material.absorption : Vector3f::Zero();
       next.spread *= entering ? 1.0f / material.ior : material.ior;
     }
-    radiance += factor.cwiseProduct(
-        trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, next, sample, counters, nullptr));
+    const Traced t = trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, next, sample, counters, nullptr);
+    radiance.value += factor.cwiseProduct(t.value);
+    radiance.edge += factor.cwiseProduct(t.edge);
   };
   // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
   const auto fresnel = [&] {
@@ -235,9 +250,11 @@ Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direct
   ScatterSample s;
   constexpr float kAlmostOne = 1.0f - 0x1p-24f;
   switch (material.type) {
-    case MaterialType::Diffuse:
-      radiance = direct(hit, albedo, wo, sample, counters);
+    case MaterialType::Diffuse: {
+      const Vector3f light = direct(hit, wo, sample, counters);
+      radiance = {albedo.cwiseProduct(light), edgeAlbedo.cwiseProduct(light)};
       break;
+    }
     case MaterialType::Mirror:
       if (sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s)) follow(s, s.weight);
       break;
@@ -253,11 +270,13 @@ Vector3f WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direct
       const float F = fresnel();
       if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s) && !s.transmitted)
         follow(s, Vector3f::Constant(F));
-      radiance += direct(hit, albedo.cwiseProduct(albedo) * (1.0f - F), wo, sample, counters);
+      const Vector3f light = direct(hit, wo, sample, counters) * (1.0f - F);
+      radiance.value += albedo.cwiseProduct(albedo).cwiseProduct(light);
+      radiance.edge += edgeAlbedo.cwiseProduct(edgeAlbedo).cwiseProduct(light);
       break;
     }
   }
-  return attenuation.cwiseProduct(radiance);
+  return {attenuation.cwiseProduct(radiance.value), attenuation.cwiseProduct(radiance.edge)};
 }
 
 }  // namespace
