@@ -1,8 +1,9 @@
 // The integrators' options against analytic answers: environment sampling with multiple
 // importance sampling (the same mean as BSDF sampling alone, with far less variance under a sky
 // with a bright patch), the whitted integrator (exact Lambert under a sun, a glass slab's
-// Fresnel transmission with its internal reflections, no dependence on seed or thread count,
-// adaptive anti-aliasing's extra samples only at an edge),
+// Fresnel transmission with its internal reflections, a far ground under a uniform sky exactly
+// its albedo, no dependence on seed or thread count, adaptive anti-aliasing's extra samples only
+// at an edge and not at a filtered checker's),
 // adaptive sampling (no more than min_samples where there is no noise, the asked-for error
 // where there is), and the denoiser (a noise-free checkerboard unchanged, a noisy plain ground's
 // error cut threefold).
@@ -117,6 +118,26 @@ kr::RenderScene groundUnderWater(const kr::TriangleMesh& water, float degrees, f
   scene.camera.lookAt = {0, 0, 0};
   scene.camera.up = {0, 1, 0};
   scene.camera.verticalFovDegrees = fovDegrees;
+  return scene;
+}
+
+// A ground of albedo a (a checker of cells `checker` metres with b, or plain where 0) lit only by
+// a point sun of irradiance 1 straight overhead, seen from 20 m above (0.3, 0.1), the image's
+// height `across` metres there and slanted (up = (0.2, 1, 0)).
+kr::RenderScene groundUnderOverheadSun(float checker, float a, float b, float across) {
+  kr::RenderScene scene;
+  scene.environment.type = kr::EnvironmentType::Uniform;
+  scene.environment.zenith = Vector3f::Zero();
+  scene.sun.direction = {0, 0, -1};
+  scene.sun.angularDiameterDegrees = 0.0f;
+  scene.sun.irradiance = Vector3f::Ones();
+  scene.ground.checkerSize = checker;
+  scene.ground.albedoA = Vector3f::Constant(a);
+  scene.ground.albedoB = Vector3f::Constant(b);
+  scene.camera.position = {0.3f, 0.1f, 20};
+  scene.camera.lookAt = {0.3f, 0.1f, 0};
+  scene.camera.up = {0.2f, 1, 0};
+  scene.camera.verticalFovDegrees = 2.0f * std::atan(0.5f * across / 20.0f) * 180.0f / kPi;
   return scene;
 }
 
@@ -483,21 +504,11 @@ TEST(Whitted, AdaptiveAntiAliasingSamplesTheEdgeAndLeavesFlatRegionsAtTheMinimum
   // neighbours across it take 2 + 16 samples, as the uniform 16-sample render's pixels; every
   // other pixel takes 2, as the uniform 2-sample render's.
   const kr::TriangleMesh top = box({5, 0, 0.5f}, {5, 10, 0.5f}, Eigen::Matrix3f::Identity());
-  kr::RenderScene scene;
-  scene.environment.type = kr::EnvironmentType::Uniform;
-  scene.environment.zenith = Vector3f::Zero();
-  scene.sun.direction = {0, 0, -1};
-  scene.sun.angularDiameterDegrees = 0.0f;
-  scene.sun.irradiance = Vector3f::Ones();
-  scene.ground.checkerSize = 0.0f;
-  scene.ground.albedoA = Vector3f::Constant(0.2f);
+  // over the box (its side wall hidden), the edge slanting across the image
+  kr::RenderScene scene = groundUnderOverheadSun(0.0f, 0.2f, 0.2f, 2.0f);
   kr::Material white;
   white.albedo = Vector3f::Constant(0.9f);
   scene.meshes.push_back({&top, white});
-  scene.camera.position = {0.3f, 0.1f, 20};  // over the box: its side wall is hidden
-  scene.camera.lookAt = {0.3f, 0.1f, 0};
-  scene.camera.up = {0.2f, 1, 0};  // the edge slants across the image
-  scene.camera.verticalFovDegrees = 2.0f * std::atan(1.0f / 20.0f) * 180.0f / kPi;  // 2 m across
   kr::RenderSettings settings;
   settings.integrator = kr::IntegratorType::Whitted;
   settings.width = 40;
@@ -536,19 +547,7 @@ TEST(Whitted, AdaptiveAntiAliasingLeavesFilteredCheckerEdgesAtTheMinimum) {
   // A high-contrast checker ground (cells of 0.37 m, albedo 0.9 and 0.1) seen from above under a
   // sun overhead: the cone filter already averages each pixel's cells, so no pixel is refined and
   // the image is the uniform 2-sample render. Point-sampled, the checker's edges are refined.
-  kr::RenderScene scene;
-  scene.environment.type = kr::EnvironmentType::Uniform;
-  scene.environment.zenith = Vector3f::Zero();
-  scene.sun.direction = {0, 0, -1};
-  scene.sun.angularDiameterDegrees = 0.0f;
-  scene.sun.irradiance = Vector3f::Ones();
-  scene.ground.checkerSize = 0.37f;
-  scene.ground.albedoA = Vector3f::Constant(0.9f);
-  scene.ground.albedoB = Vector3f::Constant(0.1f);
-  scene.camera.position = {0.3f, 0.1f, 20};
-  scene.camera.lookAt = {0.3f, 0.1f, 0};
-  scene.camera.up = {0.2f, 1, 0};
-  scene.camera.verticalFovDegrees = 2.0f * std::atan(4.0f / 20.0f) * 180.0f / kPi;  // 8 m across
+  const kr::RenderScene scene = groundUnderOverheadSun(0.37f, 0.9f, 0.1f, 8.0f);
   kr::RenderSettings settings;
   settings.integrator = kr::IntegratorType::Whitted;
   settings.width = 40;

@@ -1,7 +1,8 @@
 // Tracer tests with analytic answers: sky gradient, Lambert radiance under a sun, hard and soft
 // shadows, a rectangular light's irradiance, smooth normals, clip plane, alpha, camera keys,
 // thread-count independence, and tubes along B-splines (width, taper, ends, shading, shadow,
-// clip plane, closedness, determinism), and the chains of a scene drawn as such tubes
+// clip plane, closedness, determinism), rays leaving a far or tilted ground not blocked by it,
+// and the chains of a scene drawn as such tubes
 // (pipeline/render_scene.h chainTubes, the render stage). The furnace and refraction checks are
 // in test_render_validation.cpp.
 #include "render/renderer.h"
