@@ -62,6 +62,11 @@ CompareResult compareImages(const Image& actual, const Image& reference, const C
 // |actual - reference| per channel (sRGB-encoded), multiplied by `gain`, as a viewable image.
 Image differenceImage(const Image& actual, const Image& reference, float gain = 10.0f);
 
+// Root mean square difference of the RGB channels in sRGB-encoded values (clamped to [0, 1], as
+// PNG stores them), over every pixel: what the render studies and benchmarks measure. Throws
+// std::invalid_argument when the sizes differ.
+double imageRmse(const Image& actual, const Image& reference);
+
 // sRGB transfer function and its inverse, for values in [0,1].
 float linearToSrgb(float linear);
 float srgbToLinear(float encoded);

@@ -3,7 +3,6 @@
 // measures of pipeline/analysis/ against answers known in closed form.
 #include "pipeline/io/files.h"
 #include "pipeline/analysis/body_measures.h"
-#include "pipeline/analysis/image_rmse.h"
 #include "pipeline/analysis/series.h"
 #include "pipeline/analysis/still_tank.h"
 #include "pipeline/analysis/surface_distance.h"
@@ -278,6 +277,14 @@ TEST(Study, CommittedStudiesAreValid) {
   EXPECT_GE(studies, 5u);
 }
 
+TEST(Study, EveryMeasureHasAScorer) {
+  for (const StudyMeasure& m : studyMeasures()) EXPECT_TRUE(hasStudyScorer(m.name)) << m.name;
+  EXPECT_FALSE(hasStudyScorer("no_such_measure"));
+  Study study;
+  study.measure = findStudyMeasure("none");
+  EXPECT_TRUE(startStudyScorer(study));
+}
+
 TEST(JsonPath, SetsNestedKeysAndArrayElements) {
   nlohmann::json doc = {{"bodies", {{{"spacing", 0.5}}}}};
   setJsonPath(doc, "bodies[0].spacing", 0.25);
@@ -302,12 +309,12 @@ TEST(Measures, SeriesErrorUsesOnlyReferencePointsInsideTheRun) {
 
 TEST(Measures, RmseOfAConstantOffsetIsTheOffset) {
   render::Image a(4, 3, {0.2f, 0.2f, 0.2f, 1}), b(4, 3, {0.2f, 0.2f, 0.2f, 1});
-  EXPECT_EQ(imageRmse(a, b), 0.0);
+  EXPECT_EQ(render::imageRmse(a, b), 0.0);
   const float shifted = render::srgbToLinear(render::linearToSrgb(0.2f) + 0.1f);
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 4; ++x) b.at(x, y) = {shifted, shifted, shifted, 1};
-  EXPECT_NEAR(imageRmse(a, b), 0.1, 1e-5);
-  EXPECT_THROW(imageRmse(a, render::Image(2, 2)), std::invalid_argument);
+  EXPECT_NEAR(render::imageRmse(a, b), 0.1, 1e-5);
+  EXPECT_THROW(render::imageRmse(a, render::Image(2, 2)), std::invalid_argument);
 }
 
 TEST(Measures, ExactFieldOfOneBlobCrossesAtTheAnalyticRadius) {

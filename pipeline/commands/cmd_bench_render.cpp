@@ -7,7 +7,7 @@
 // and shadow rays, each an Embree query), and seconds per frame (scene build included).
 //
 // With --rmse: image error against seconds for each integrator option, on the built-in scene or
-// on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, pipeline/analysis/image_rmse.h) against a
+// on a frame of a run (--scene, --from, --frame): RMSE (sRGB, 0..1, render/image.h imageRmse) against a
 // reference rendered once by the path tracer with environment sampling and --reference-spp
 // samples (another seed), and, for the whitted rows, also against whitted itself at 64 sub-pixel
 // samples everywhere, the row's sky directions and its texture filtering (its only error is then
@@ -22,10 +22,10 @@
 #include "pipeline/io/exr.h"
 #include "pipeline/io/image_file.h"
 #include "pipeline/io/surface_file.h"
-#include "pipeline/analysis/image_rmse.h"
 #include "pipeline/io/particle_cache.h"
 #include "pipeline/render_scene.h"
 #include "pipeline/stages.h"
+#include "render/image.h"
 #include "render/surfacing.h"
 #include "render/renderer.h"
 
@@ -228,9 +228,9 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     }
     std::sort(seconds.begin(), seconds.end());
     stats.seconds = seconds[seconds.size() / 2];
-    const double rmse = imageRmse(image, reference);
+    const double rmse = render::imageRmse(image, reference);
     const bool whitted = scene.render.settings.integrator == render::IntegratorType::Whitted;
-    const double self = whitted ? imageRmse(image, whittedReference(scene.render.settings.whitted)) : -1.0;
+    const double self = whitted ? render::imageRmse(image, whittedReference(scene.render.settings.whitted)) : -1.0;
     const double spp = double(stats.samples) / (double(base.width) * base.height);
     if (images) writeRowImages(*images, row.label, image, stats);
     result["rows"].push_back({{"run", row.label}, {"seconds", stats.seconds}, {"rmse", rmse}, {"mean_spp", spp},
@@ -255,7 +255,7 @@ int benchVariance(const BenchFrame& frame, int threads, bool json) {
     const render::Image a = frame.render(scene, nullptr);
     scene.render.settings.seed += 1;
     const render::Image b = frame.render(scene, nullptr);
-    return imageRmse(a, b) / std::sqrt(2.0);
+    return render::imageRmse(a, b) / std::sqrt(2.0);
   };
   const auto noSun = [](Scene& s) { s.render.sun.irradiance.setZero(); };
   const auto noSky = [](Scene& s) {

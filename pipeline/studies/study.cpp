@@ -365,7 +365,7 @@ std::vector<StudyRow> runStudy(const Study& study, const StudyOptions& options) 
   const auto settings = studySettings(study);
   const auto combos = studyCombinations(settings);
   const std::string sceneName = studyPath(study, study.scene).string();
-  const StudyScorer score = study.measure->start(study);
+  const StudyScorer score = startStudyScorer(study);
   std::vector<StudyRow> rows;
   for (size_t c = 0; c < combos.size(); ++c) {
     std::vector<const KnobSetting*> chosen;

@@ -1,12 +1,13 @@
 // The measures a study scores its runs with (a study file's "measure"), one registration each in
 // study_measures.cpp: its name, what it scores and against which reference, the columns it adds
-// to study.csv, the stage whose wall time the study reports, what it needs of the study file and
-// of each run's scene (checked when the study is loaded, before anything runs), and how it
-// scores a run. The measures themselves are pipeline/analysis/; `kurage study --help` lists
-// these with their descriptions.
+// to study.csv, the stage whose wall time the study reports, and what it needs of the study file
+// and of each run's scene (checked when the study is loaded, before anything runs); its scorer,
+// which runs the stages, is registered by the same name in study_scorers.cpp. The measures
+// themselves are pipeline/analysis/; `kurage study --help` lists these with their descriptions.
 //
-// Adding a measure: a scorer and one entry in studyMeasures(); the loader, the runner, study.csv,
-// study.md and the figure read everything else from the entry.
+// Adding a measure: an entry in studyMeasures() and its scorer in study_scorers.cpp (a test checks
+// that every measure has one); the loader, the runner, study.csv, study.md and the figure read
+// everything else from the entry.
 #pragma once
 
 #include "pipeline/scene.h"
@@ -45,9 +46,6 @@ struct StudyMeasure {
   std::optional<std::pair<std::string, std::string>> (*checkStudy)(const Study& study);
   // What it needs of each run's scene: a message, or "" when the scene has it.
   std::string (*checkScene)(const Study& study, const Scene& scene);
-  // The scorer of one study's runs; it may keep what the runs share (the reference data, a
-  // simulation that runs differing only in surface or render keys reuse).
-  StudyScorer (*start)(const Study& study);
 
   bool scored() const { return *errorUnit != '\0'; }
   const char* timedName() const;  // "simulation", "surfacing" or "rendering"
@@ -57,5 +55,12 @@ struct StudyMeasure {
 const std::vector<StudyMeasure>& studyMeasures();
 // The measure named `name`; nullptr for another name.
 const StudyMeasure* findStudyMeasure(std::string_view name);
+
+// The scorer of one study's runs (study_scorers.cpp, in kurage_pipeline with the stages); it may
+// keep what the runs share (the reference data, a simulation that runs differing only in surface
+// or render keys reuse). Throws std::logic_error for a measure without a scorer.
+StudyScorer startStudyScorer(const Study& study);
+// Whether the measure named `measure` has a scorer.
+bool hasStudyScorer(std::string_view measure);
 
 }  // namespace kurage::pipeline
