@@ -160,7 +160,7 @@ TEST(Sweeps, SimdSumsMatchTheScalarOnesOnRandomNeighbourhoods) {
   }
 }
 
-// The lanes path's sums, lane by lane, are the scalar sums bit for bit, over groups whose lists
+// The lanes path's sums (rate, push, factor), lane by lane, are the scalar sums bit for bit, over groups whose lists
 // have 0 to 40 neighbours (a group's lanes of different lengths, a last group short of 8 particles).
 TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
   if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
@@ -168,11 +168,12 @@ TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
   const size_t n = 45;
   std::vector<Float4> x(n), v(n);
-  std::vector<float> k(n);
+  std::vector<float> k(n), response(n);
   for (size_t j = 0; j < n; ++j) {
     x[j] = Float4{u(rng), u(rng), u(rng), 1.0f + 0.5f * u(rng)};
     v[j] = Float4{u(rng), u(rng), u(rng), 0.0f};
     k[j] = u(rng);
+    response[j] = 1.0f + 0.5f * u(rng);
   }
   NeighborLists lists;
   lists.resize(n);
@@ -195,14 +196,25 @@ TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
     Float4 push[8];
     path.rateLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), v.data(), rate);
     path.pushLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), k.data(), push);
+    Float4 F[8];
+    float S[8];
+    for (int l = 0; l < 8; ++l) { F[l] = Float4{0.5f * u(rng), u(rng), -0.25f, 0.0f}; S[l] = 0.0f; }
+    const Float4 F0[8] = {F[0], F[1], F[2], F[3], F[4], F[5], F[6], F[7]};
+    path.factorLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), response.data(), F, S);
     for (size_t i = 8 * g; i < std::min(n, 8 * g + 8); ++i) {
       const float* s = slopes.data() + lists.offset(i);
       const Float4 r = solvers::rateSum(lists.begin(i), lists.end(i), s, x.data(), v.data(), x[i], v[i]);
       const Float4 a = solvers::pushSum(lists.begin(i), lists.end(i), s, x.data(), k.data(), x[i], k[i]);
       const std::string at = "particle " + std::to_string(i) + ", " + std::to_string(lists.count(i)) + " neighbours";
       EXPECT_EQ(std::bit_cast<uint32_t>(rate[i - 8 * g]), std::bit_cast<uint32_t>(r[0] + r[1] + r[2])) << at;
-      for (int c = 0; c < 3; ++c)
+      Float4 f = F0[i - 8 * g];
+      float sq = 0.0f;
+      solvers::sweepTable(SweepIsa::Scalar).factor(lists.begin(i), lists.end(i), s, x.data(), response.data(), x[i], f, sq);
+      EXPECT_EQ(std::bit_cast<uint32_t>(S[i - 8 * g]), std::bit_cast<uint32_t>(sq)) << at << ", factor's squares";
+      for (int c = 0; c < 3; ++c) {
         EXPECT_EQ(std::bit_cast<uint32_t>(push[i - 8 * g][c]), std::bit_cast<uint32_t>(a[c])) << at << ", push axis " << c;
+        EXPECT_EQ(std::bit_cast<uint32_t>(F[i - 8 * g][c]), std::bit_cast<uint32_t>(f[c])) << at << ", factor axis " << c;
+      }
     }
   }
 }

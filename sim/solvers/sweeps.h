@@ -17,7 +17,7 @@
 //           (slope 0, a duplicate index: they add +-0).
 //   avx512: the same, 16 neighbours at a time (AVX-512F); the sift 16 candidates at a time, the
 //           neighbours' indices compressed to the list with one masked store.
-//   lanes:  the scalar path, but DFSPH's rate and push 8 particles at a time (AVX2), lane l summing
+//   lanes:  the scalar path, but DFSPH's rate, push and factor 8 particles at a time (AVX2), lane l summing
 //           particle l's list with the scalar sums' operations in list order: the scalar path's
 //           floats. Their lists interleaved once a step (LaneLists), each row's 8 records loaded
 //           128 bits each and transposed, k_j by 8 loads; no horizontal sum, no tail.
@@ -83,6 +83,10 @@ struct SweepTable {
   // other paths. out: 8 rates; 8 pushes (fourth lane 0).
   void (*rateLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float* out);
   void (*pushLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* k, Float4* out);
+  // The factor's sums F and S of the group's eight particles, added to F[0..8) and S[0..8) (F's
+  // fourth lane left 0), lane by lane the scalar factor's operations in list order.
+  void (*factorLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response, Float4* F,
+                      float* S);
 };
 
 // Whether this CPU (and its OS) runs a path.
@@ -100,6 +104,7 @@ const SweepTable& avx512Table();
 // The lanes path's sums (sweeps_avx2.cpp)
 void rateLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float* out);
 void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* k, Float4* out);
+void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response, Float4* F, float* S);
 }  // namespace detail
 
 }  // namespace kurage::sim::solvers

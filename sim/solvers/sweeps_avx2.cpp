@@ -109,6 +109,39 @@ void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const f
   for (int l = 0; l < 8; ++l) out[l] = Float4{px[l], py[l], pz[l], 0.0f};
 }
 
+void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response, Float4* F,
+                 float* S) {
+  static constexpr uint32_t kOwn[8] = {0, 1, 2, 3, 4, 5, 6, 7};
+  __m256 Xi, Yi, Zi, Wi, fx, fy, fz, unused;
+  lanesOf(x, g.self, Xi, Yi, Zi, Wi);
+  lanesOf(F, kOwn, fx, fy, fz, unused);
+  __m256 sq = _mm256_loadu_ps(S);
+  for (uint32_t r = 0; r < g.rows; ++r) {
+    const LaneRow& row = rows[g.first + r];
+    const __m256 s = _mm256_load_ps(row.slope);
+    __m256 X, Y, Z, W;
+    lanesOf(x, row.idx, X, Y, Z, W);
+    const uint32_t* j = row.idx;  // c_j by eight loads, as k_j in the push
+    const __m256 C = _mm256_setr_ps(response[j[0]], response[j[1]], response[j[2]], response[j[3]], response[j[4]],
+                                    response[j[5]], response[j[6]], response[j[7]]);
+    const __m256 gx = _mm256_mul_ps(s, _mm256_sub_ps(Xi, X));  // grad W_ij = s_ij (x_i - x_j)
+    const __m256 gy = _mm256_mul_ps(s, _mm256_sub_ps(Yi, Y));
+    const __m256 gz = _mm256_mul_ps(s, _mm256_sub_ps(Zi, Z));
+    fx = _mm256_add_ps(fx, _mm256_mul_ps(W, gx));
+    fy = _mm256_add_ps(fy, _mm256_mul_ps(W, gy));
+    fz = _mm256_add_ps(fz, _mm256_mul_ps(W, gz));
+    // c_j (g0^2 + (g1^2 + g2^2)): the scalar factor's order (Eigen's squaredNorm)
+    const __m256 g2 = _mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_add_ps(_mm256_mul_ps(gy, gy), _mm256_mul_ps(gz, gz)));
+    sq = _mm256_add_ps(sq, _mm256_mul_ps(C, g2));
+  }
+  alignas(32) float px[8], py[8], pz[8];
+  _mm256_store_ps(px, fx);
+  _mm256_store_ps(py, fy);
+  _mm256_store_ps(pz, fz);
+  for (int l = 0; l < 8; ++l) F[l] = Float4{px[l], py[l], pz[l], 0.0f};
+  _mm256_storeu_ps(S, sq);
+}
+
 const SweepTable& avx2Table() {
   static constexpr SweepTable table = simd::table<Avx2>(SweepIsa::Avx2, "avx2");
   return table;

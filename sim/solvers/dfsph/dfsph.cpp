@@ -172,15 +172,55 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       correctionRows_[3 * i + 2] = Float4{L[4], L[5], L[2], 0.0f};
     });
   }
+  lanes_ = sweeps_.rateLanes && !corrected_;
+  if (lanes_) laneLists_.build(c.neighbors, n);
+  // The walls' part of particle i's F (mirrored wall: see the header)
+  const auto wallF = [&](size_t i) {
+    Eigen::Vector3f gb = Eigen::Vector3f::Zero();
+    if (c.boundaryGradient) gb = wallWeight(p, i) * Eigen::Vector3f(c.boundaryGradient + 3 * i);
+    return Eigen::Vector3f(kMirror * gb);
+  };
+  // The factor of particle i from its sums F = sum_j w_j grad W_ij (+ the walls') and S = sum_j c_j |grad W_ij|^2
+  const auto finish = [&](size_t i, const Eigen::Vector3f& F, float S) {
+    const float rho0i = p.restDensity[i];
+    const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
+    const float ref = position_[i][3] * dRef;
+    // A particle a pin holds and a torn one are no unknowns: the solves give them no pressure
+    // and do not count their error (header).
+    fixed_[i] = c.unsolved && c.unsolved[i] != kSolved;
+    invFactor_[i] = D > 1e-6f * ref * ref && !fixed_[i] ? 1.0f / D : 0.0f;
+    active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i && !fixed_[i];
+    // Jacobi's largest eigenvalue grows with the neighbour count: a body at half the fluid
+    // spacing has about 8 times the fluid's neighbours, and the iteration diverged there with
+    // the fluid's relaxation (bodies under DFSPH went non-finite). Scaled down where a particle
+    // has more neighbours than the fluid lattice, or than h = 2 l's lattice (constructor).
+    const float count = float(c.neighbors.end(i) - c.neighbors.begin(i));
+    relax_[i] = kRelaxation * std::min(1.0f, latticeNeighbours_ / std::max(count, 1.0f));
+  };
+  if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
+    tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
+      const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
+      const solvers::LaneRow* rows = laneLists_.rows[ch].data();
+      constexpr size_t kWidth = solvers::LaneLists::kWidth;
+      for (size_t i0 = ch * NeighborLists::kChunk; i0 < last; i0 += kWidth) {
+        const size_t end = std::min(last, i0 + kWidth);
+        Float4 F[kWidth] = {};
+        float S[kWidth] = {};
+        for (size_t i = i0; i < end; ++i) {
+          const Eigen::Vector3f w = wallF(i);
+          F[i - i0] = Float4{w.x(), w.y(), w.z(), 0.0f};
+        }
+        sweeps_.factorLanes(rows, laneLists_.groups[i0 / kWidth], position_.data(), response_.data(), F, S);
+        for (size_t i = i0; i < end; ++i) finish(i, Eigen::Vector3f(F[i - i0][0], F[i - i0][1], F[i - i0][2]), S[i - i0]);
+      }
+    });
+  } else
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
     const std::vector<float>& g = c.neighbors.slopes(ch);  // W'(r)/r, from the density pass
     assert(g.size() == c.neighbors.chunkSize(ch));
     const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
     for (size_t i = ch * NeighborLists::kChunk; i < last; ++i) {
-      const float rho0i = p.restDensity[i];
-      Eigen::Vector3f gb = Eigen::Vector3f::Zero();
-      if (c.boundaryGradient) gb = wallWeight(p, i) * Eigen::Vector3f(c.boundaryGradient + 3 * i);
-      Eigen::Vector3f F = kMirror * gb;  // mirrored wall: see the header
+      Eigen::Vector3f F = wallF(i);
       float S = 0.0f;
       const float* slope = g.data() + c.neighbors.offset(i);
       if (!corrected_) {
@@ -208,23 +248,9 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
         const Float4 sum = corrected(i, plain);
         F += Eigen::Vector3f(sum[0], sum[1], sum[2]);
       }
-      const float D = F.squaredNorm() + p.mass[i] * S;  // (2017, eq. 13; header)
-      const float ref = position_[i][3] * dRef;
-      // A particle a pin holds and a torn one are no unknowns: the solves give them no pressure
-      // and do not count their error (header).
-      fixed_[i] = c.unsolved && c.unsolved[i] != kSolved;
-      invFactor_[i] = D > 1e-6f * ref * ref && !fixed_[i] ? 1.0f / D : 0.0f;
-      active_[i] = p.density[i] >= kSurfaceDensityRatio * rho0i && !fixed_[i];
-      // Jacobi's largest eigenvalue grows with the neighbour count: a body at half the fluid
-      // spacing has about 8 times the fluid's neighbours, and the iteration diverged there with
-      // the fluid's relaxation (bodies under DFSPH went non-finite). Scaled down where a particle
-      // has more neighbours than the fluid lattice, or than h = 2 l's lattice (constructor).
-      const float count = float(c.neighbors.end(i) - c.neighbors.begin(i));
-      relax_[i] = kRelaxation * std::min(1.0f, latticeNeighbours_ / std::max(count, 1.0f));
+      finish(i, F, S);
     }
   });
-  lanes_ = sweeps_.rateLanes && !corrected_;
-  if (lanes_) laneLists_.build(c.neighbors, n);
   ++stats_.steps;
   stats_.torn.count(c.unsolved, n);
   qSum_.assign(n, 0.0f);
