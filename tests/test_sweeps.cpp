@@ -160,13 +160,14 @@ TEST(Sweeps, SimdSumsMatchTheScalarOnesOnRandomNeighbourhoods) {
   }
 }
 
-// The lanes path's sums (rate, push, factor), lane by lane, are the scalar sums bit for bit, over groups whose lists
-// have 0 to 40 neighbours (a group's lanes of different lengths, a last group short of 8 particles).
+// The lanes path's sums (rate, push, factor), lane by lane, are the scalar sums bit for bit, over
+// two chunks of particles whose lists have 0 to 40 neighbours (a group's lanes of different
+// lengths, the last group short of 8 particles), and every particle is in one group of its chunk.
 TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
   if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> u(-1.0f, 1.0f);
-  const size_t n = 45;
+  const size_t n = NeighborLists::kChunk + 45;
   std::vector<Float4> x(n), v(n);
   std::vector<float> k(n), response(n);
   for (size_t j = 0; j < n; ++j) {
@@ -177,9 +178,9 @@ TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
   }
   NeighborLists lists;
   lists.resize(n);
-  std::vector<uint32_t>& buffer = lists.chunk(0);
-  std::vector<float>& slopes = lists.slopes(0);
   for (size_t i = 0; i < n; ++i) {
+    std::vector<uint32_t>& buffer = lists.chunk(i / NeighborLists::kChunk);
+    std::vector<float>& slopes = lists.slopes(i / NeighborLists::kChunk);
     const uint32_t begin = uint32_t(buffer.size());
     for (size_t c = (i * 7) % 41; c > 0; --c) {
       buffer.push_back(uint32_t(rng() % n));
@@ -191,32 +192,40 @@ TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
   lanes.build(lists, n);
   ASSERT_EQ(lanes.groups.size(), (n + 7) / 8);
   const solvers::SweepTable& path = solvers::sweepTable(SweepIsa::Lanes);
-  for (size_t g = 0; g < lanes.groups.size(); ++g) {
-    float rate[8];
-    Float4 push[8];
-    path.rateLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), v.data(), rate);
-    path.pushLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), k.data(), push);
-    Float4 F[8];
-    float S[8];
-    for (int l = 0; l < 8; ++l) { F[l] = Float4{0.5f * u(rng), u(rng), -0.25f, 0.0f}; S[l] = 0.0f; }
-    const Float4 F0[8] = {F[0], F[1], F[2], F[3], F[4], F[5], F[6], F[7]};
-    path.factorLanes(lanes.rows[0].data(), lanes.groups[g], x.data(), response.data(), F, S);
-    for (size_t i = 8 * g; i < std::min(n, 8 * g + 8); ++i) {
-      const float* s = slopes.data() + lists.offset(i);
-      const Float4 r = solvers::rateSum(lists.begin(i), lists.end(i), s, x.data(), v.data(), x[i], v[i]);
-      const Float4 a = solvers::pushSum(lists.begin(i), lists.end(i), s, x.data(), k.data(), x[i], k[i]);
-      const std::string at = "particle " + std::to_string(i) + ", " + std::to_string(lists.count(i)) + " neighbours";
-      EXPECT_EQ(std::bit_cast<uint32_t>(rate[i - 8 * g]), std::bit_cast<uint32_t>(r[0] + r[1] + r[2])) << at;
-      Float4 f = F0[i - 8 * g];
-      float sq = 0.0f;
-      solvers::sweepTable(SweepIsa::Scalar).factor(lists.begin(i), lists.end(i), s, x.data(), response.data(), x[i], f, sq);
-      EXPECT_EQ(std::bit_cast<uint32_t>(S[i - 8 * g]), std::bit_cast<uint32_t>(sq)) << at << ", factor's squares";
-      for (int c = 0; c < 3; ++c) {
-        EXPECT_EQ(std::bit_cast<uint32_t>(push[i - 8 * g][c]), std::bit_cast<uint32_t>(a[c])) << at << ", push axis " << c;
-        EXPECT_EQ(std::bit_cast<uint32_t>(F[i - 8 * g][c]), std::bit_cast<uint32_t>(f[c])) << at << ", factor axis " << c;
+  std::vector<int> seen(n, 0);
+  for (size_t ch = 0; ch < lists.chunkCount(); ++ch) {
+    const solvers::LaneRow* rows = lanes.rows[ch].data();
+    const float* slopes = lists.slopes(ch).data();
+    for (size_t gi = lanes.groupsBegin(ch); gi < lanes.groupsEnd(ch); ++gi) {
+      const solvers::LaneGroup& g = lanes.groups[gi];
+      float rate[8];
+      Float4 push[8], F[8], F0[8];
+      float S[8] = {};
+      path.rateLanes(rows, g, x.data(), v.data(), rate);
+      path.pushLanes(rows, g, x.data(), k.data(), push);
+      for (int l = 0; l < 8; ++l) F[l] = F0[l] = Float4{0.5f * u(rng), u(rng), -0.25f, 0.0f};
+      path.factorLanes(rows, g, x.data(), response.data(), F, S);
+      for (uint32_t l = 0; l < g.used; ++l) {
+        const size_t i = g.self[l];
+        ASSERT_EQ(i / NeighborLists::kChunk, ch);
+        ++seen[i];
+        const float* s = slopes + lists.offset(i);
+        const Float4 r = solvers::rateSum(lists.begin(i), lists.end(i), s, x.data(), v.data(), x[i], v[i]);
+        const Float4 a = solvers::pushSum(lists.begin(i), lists.end(i), s, x.data(), k.data(), x[i], k[i]);
+        Float4 f = F0[l];
+        float sq = 0.0f;
+        solvers::sweepTable(SweepIsa::Scalar).factor(lists.begin(i), lists.end(i), s, x.data(), response.data(), x[i], f, sq);
+        const std::string at = "particle " + std::to_string(i) + ", " + std::to_string(lists.count(i)) + " neighbours";
+        EXPECT_EQ(std::bit_cast<uint32_t>(rate[l]), std::bit_cast<uint32_t>(r[0] + r[1] + r[2])) << at;
+        EXPECT_EQ(std::bit_cast<uint32_t>(S[l]), std::bit_cast<uint32_t>(sq)) << at << ", factor's squares";
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_EQ(std::bit_cast<uint32_t>(push[l][c]), std::bit_cast<uint32_t>(a[c])) << at << ", push axis " << c;
+          EXPECT_EQ(std::bit_cast<uint32_t>(F[l][c]), std::bit_cast<uint32_t>(f[c])) << at << ", factor axis " << c;
+        }
       }
     }
   }
+  EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; })) << "every particle once";
 }
 
 // Every path's sift finds the scalar path's list, in its order, for ranges of every length.

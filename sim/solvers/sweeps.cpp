@@ -141,28 +141,29 @@ const SweepTable& sweepTable() {
 void LaneLists::build(const NeighborLists& neighbors, size_t count) {
   const size_t chunks = neighbors.chunkCount();
   rows.resize(chunks);
-  groups.resize((count + kWidth - 1) / kWidth);
   static_assert(NeighborLists::kChunk % kWidth == 0);
+  groups.resize((count + kWidth - 1) / kWidth);  // chunk c's from c kGroupsPerChunk (every chunk but the last full)
   tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
-    const size_t firstGroup = ch * NeighborLists::kChunk / kWidth;
-    const size_t lastGroup = std::min(groups.size(), (ch + 1) * NeighborLists::kChunk / kWidth);
-    const float* slopes = neighbors.slopes(ch).data();
+    const size_t first = ch * NeighborLists::kChunk;
+    const size_t members = std::min(count, first + NeighborLists::kChunk) - first;
     uint32_t next = 0;
-    for (size_t g = firstGroup; g < lastGroup; ++g) {
+    for (size_t g = groupsBegin(ch); g < groupsEnd(ch); ++g) {
       LaneGroup& group = groups[g];
+      const size_t at = (g - groupsBegin(ch)) * kWidth;
       group.first = next;
+      group.used = uint32_t(std::min(kWidth, members - at));
       group.rows = 0;
       for (size_t l = 0; l < kWidth; ++l) {
-        const size_t i = std::min(g * kWidth + l, count - 1);
-        group.self[l] = uint32_t(i);
-        group.count[l] = g * kWidth + l < count ? int32_t(neighbors.count(i)) : 0;
+        group.self[l] = uint32_t(first + (l < group.used ? at + l : at));
+        group.count[l] = l < group.used ? int32_t(neighbors.count(group.self[l])) : 0;
         group.rows = std::max(group.rows, uint32_t(group.count[l]));
       }
       next += group.rows;
     }
+    const float* slopes = neighbors.slopes(ch).data();
     std::vector<LaneRow>& out = rows[ch];
     out.resize(next);  // capacity is kept between steps
-    for (size_t g = firstGroup; g < lastGroup; ++g) {
+    for (size_t g = groupsBegin(ch); g < groupsEnd(ch); ++g) {
       const LaneGroup& group = groups[g];
       LaneRow* r = out.data() + group.first;
       for (size_t l = 0; l < kWidth; ++l) {

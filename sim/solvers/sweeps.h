@@ -33,6 +33,7 @@
 
 #include "sim/solvers/solver_common.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <optional>
@@ -47,21 +48,27 @@ enum class SweepIsa { Scalar, Avx2, Avx512, Lanes };
 // neighbour of each (index and s_ij), a group's rows as many as its longest list; past a list's
 // end its lane holds the particle itself with slope 0 (count says where the list ends). Groups
 // start at multiples of 8 and so lie within one NeighborLists chunk, whose rows they share.
+// (Consecutive particles are close, so a row's eight neighbours mostly share cache lines: grouping
+// a chunk's particles by list length instead, to pad fewer rows, made a step slower.)
 struct alignas(64) LaneRow {
   uint32_t idx[8];
   float slope[8];
 };
 struct LaneGroup {
   uint32_t first, rows;  // its rows in its chunk's
-  uint32_t self[8];      // its particles (the last one repeated past the particle count)
-  int32_t count[8];      // their neighbour counts (0 past the particle count)
+  uint32_t used;         // its particles: self[0..used)
+  uint32_t self[8];      // its particles (the first one repeated past used)
+  int32_t count[8];      // their neighbour counts (0 past used)
 };
 struct LaneLists {
   std::vector<std::vector<LaneRow>> rows;  // per NeighborLists chunk
-  std::vector<LaneGroup> groups;           // group g: particles [8 g, 8 g + 8)
+  std::vector<LaneGroup> groups;           // chunk c's: [groupsBegin(c), groupsEnd(c))
   static constexpr size_t kWidth = 8;
+  static constexpr size_t kGroupsPerChunk = NeighborLists::kChunk / kWidth;
   // From the density pass's lists and slopes (every chunk's slopes filled), for `count` particles.
   void build(const NeighborLists& neighbors, size_t count);
+  size_t groupsBegin(size_t chunk) const { return chunk * kGroupsPerChunk; }
+  size_t groupsEnd(size_t chunk) const { return std::min(groups.size(), (chunk + 1) * kGroupsPerChunk); }
   size_t memoryBytes() const;
 };
 

@@ -199,19 +199,17 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
   };
   if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
     tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
-      const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
       const solvers::LaneRow* rows = laneLists_.rows[ch].data();
-      constexpr size_t kWidth = solvers::LaneLists::kWidth;
-      for (size_t i0 = ch * NeighborLists::kChunk; i0 < last; i0 += kWidth) {
-        const size_t end = std::min(last, i0 + kWidth);
-        Float4 F[kWidth] = {};
-        float S[kWidth] = {};
-        for (size_t i = i0; i < end; ++i) {
-          const Eigen::Vector3f w = wallF(i);
-          F[i - i0] = Float4{w.x(), w.y(), w.z(), 0.0f};
+      for (size_t gi = laneLists_.groupsBegin(ch); gi < laneLists_.groupsEnd(ch); ++gi) {
+        const solvers::LaneGroup& g = laneLists_.groups[gi];
+        Float4 F[solvers::LaneLists::kWidth] = {};
+        float S[solvers::LaneLists::kWidth] = {};
+        for (uint32_t l = 0; l < g.used; ++l) {
+          const Eigen::Vector3f w = wallF(g.self[l]);
+          F[l] = Float4{w.x(), w.y(), w.z(), 0.0f};
         }
-        sweeps_.factorLanes(rows, laneLists_.groups[i0 / kWidth], position_.data(), response_.data(), F, S);
-        for (size_t i = i0; i < end; ++i) finish(i, Eigen::Vector3f(F[i - i0][0], F[i - i0][1], F[i - i0][2]), S[i - i0]);
+        sweeps_.factorLanes(rows, g, position_.data(), response_.data(), F, S);
+        for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], Eigen::Vector3f(F[l][0], F[l][1], F[l][2]), S[l]);
       }
     });
   } else
@@ -376,12 +374,12 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
   };
   if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
     tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
-      const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
       const solvers::LaneRow* rows = laneLists_.rows[ch].data();
-      for (size_t i0 = ch * NeighborLists::kChunk; i0 < last; i0 += solvers::LaneLists::kWidth) {
+      for (size_t gi = laneLists_.groupsBegin(ch); gi < laneLists_.groupsEnd(ch); ++gi) {
+        const solvers::LaneGroup& g = laneLists_.groups[gi];
         alignas(32) float sums[solvers::LaneLists::kWidth];
-        sweeps_.rateLanes(rows, laneLists_.groups[i0 / solvers::LaneLists::kWidth], x, v, sums);
-        for (size_t i = i0; i < std::min(last, i0 + solvers::LaneLists::kWidth); ++i) finish(i, sums[i - i0]);
+        sweeps_.rateLanes(rows, g, x, v, sums);
+        for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], sums[l]);
       }
     });
     return;
@@ -454,12 +452,12 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
   };
   if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
     tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
-      const size_t last = std::min(n, (ch + 1) * NeighborLists::kChunk);
       const solvers::LaneRow* rows = laneLists_.rows[ch].data();
-      for (size_t i0 = ch * NeighborLists::kChunk; i0 < last; i0 += solvers::LaneLists::kWidth) {
+      for (size_t gi = laneLists_.groupsBegin(ch); gi < laneLists_.groupsEnd(ch); ++gi) {
+        const solvers::LaneGroup& g = laneLists_.groups[gi];
         Float4 sums[solvers::LaneLists::kWidth];
-        sweeps_.pushLanes(rows, laneLists_.groups[i0 / solvers::LaneLists::kWidth], x, k, sums);
-        for (size_t i = i0; i < std::min(last, i0 + solvers::LaneLists::kWidth); ++i) finish(i, sums[i - i0]);
+        sweeps_.pushLanes(rows, g, x, k, sums);
+        for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], sums[l]);
       }
     });
   } else
