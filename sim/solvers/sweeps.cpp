@@ -130,7 +130,8 @@ const SweepTable& sweepTable(SweepIsa isa) {
 
 const SweepTable& sweepTable() {
   const char* asked = std::getenv("KURAGE_SIMD");
-  if (!asked || !*asked) return kScalar;  // the SIMD paths are asked for (header)
+  if (!asked || !*asked)  // the lanes path where the CPU runs it (the scalar path's floats), else the scalar one
+    return sweepSupported(SweepIsa::Lanes) ? kLanes : kScalar;
   const std::string name(asked);
   for (SweepIsa isa : {SweepIsa::Scalar, SweepIsa::Avx2, SweepIsa::Avx512, SweepIsa::Lanes})
     if (name == kNames[int(isa)] && sweepSupported(isa)) return sweepTable(isa);

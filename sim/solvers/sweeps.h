@@ -17,18 +17,19 @@
 //           (slope 0, a duplicate index: they add +-0).
 //   avx512: the same, 16 neighbours at a time (AVX-512F); the sift 16 candidates at a time, the
 //           neighbours' indices compressed to the list with one masked store.
-//   lanes:  the scalar path, but DFSPH's rate, push and factor 8 particles at a time (AVX2), lane l summing
-//           particle l's list with the scalar sums' operations in list order: the scalar path's
-//           floats. Their lists interleaved once a step (LaneLists), each row's 8 records loaded
-//           128 bits each and transposed, k_j by 8 loads; no horizontal sum, no tail.
+//   lanes:  the scalar path, but DFSPH's rate, push and factor 8 particles at a time (AVX2), lane
+//           l summing particle l's list with the scalar sums' operations in list order: the scalar
+//           path's floats. Their lists interleaved once a step (LaneLists), each row's 8 records
+//           loaded 128 bits each and transposed, k_j and c_j by 8 loads; no horizontal sum, no tail.
 // Each path's sum for a particle is in a fixed order (per lane, then a fixed tree across lanes): a
-// run does not depend on the thread count on any path. The SIMD paths contract to FMA and add in
-// another order than the scalar one: their floats differ from it by rounding (a few ulp of a
-// sum's largest term). KURAGE_SIMD=scalar|avx2|avx512|lanes in the environment asks for a path (one the
-// CPU runs; another value is an error). Unset: the scalar path. On the 2-core machine measured
-// (docs/notebook/simulation-speed.md) the SIMD sums, bound by loading and transposing each
-// neighbour's records, ran no faster than the scalar ones, and the AVX-512 sift, though faster
-// itself, left the rest of a step slower: the SIMD paths are asked for, not assumed.
+// run does not depend on the thread count on any path. The avx2 and avx512 paths contract to FMA
+// and add in another order than the scalar one: their floats differ from it by rounding (a few
+// ulp of a sum's largest term). KURAGE_SIMD=scalar|avx2|avx512|lanes in the environment asks for a
+// path (one the CPU runs; another value is an error). Unset: lanes where the CPU runs AVX2, else
+// scalar (the same floats either way). Only the ISA files are compiled with the ISA's flags and
+// only the tables' functions use them, so one binary runs on any x86-64. The avx2 and avx512 sums
+// ran no faster than the scalar ones on the machine measured (docs/notebook/simulation-speed.md),
+// and the AVX-512 sift, though faster itself, left the rest of a step slower: they are asked for.
 #pragma once
 
 #include "sim/solvers/solver_common.h"

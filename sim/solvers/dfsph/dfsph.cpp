@@ -49,7 +49,7 @@ DfsphSolver::DfsphSolver(const FluidParams& fluid)
       form_(fluid.densitySum), maxDensityError_(0.01f * params_.maxDensityError),
       maxDivergenceError_(0.01f * params_.maxDivergenceError), maxIterations_(params_.maxIterations),
       maxDivergenceIterations_(params_.maxDivergenceIterations), divergenceSolve_(params_.divergenceSolve),
-      sweeps_(solvers::sweepTable()), scalarSums_(sweeps_.isa == solvers::SweepIsa::Scalar) {
+      sweeps_(solvers::sweepTable()), scalarSums_(sweeps_.isa == solvers::SweepIsa::Scalar || sweeps_.isa == solvers::SweepIsa::Lanes) {
   if (fluid.kernel == SphKernel::Mueller2003)
     throw std::invalid_argument("dfsph: its solves use the cubic spline kernel, not the paper's poly6 and spiky");
   latticeNeighbours_ = solvers::relaxedNeighbours(fluid.supportRadius);

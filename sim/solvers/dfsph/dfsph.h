@@ -34,8 +34,9 @@
 // Units: k in m^5/(kg s^2) ("mass") or Pa ("volume"); the particles' pressure is what both solves
 // applied, p_i = (k_i + q_i / dt_last) rho_i^2 (/ rho0_i^2 with "volume"), Pa. Kernel: the cubic
 // spline, its W'(r)/r per pair from the density pass. The neighbour sums of the rate, the push and
-// the factor (without the gradient correction) are solvers/sweeps.h's: scalar, or 8 or 16
-// neighbours at a time under KURAGE_SIMD=avx2|avx512. Sums reduce per chunk, then in order: the
+// the factor (without the gradient correction) are solvers/sweeps.h's: 8 particles at a time where
+// the CPU runs AVX2 (the scalar sums' floats), else scalar; 8 or 16 neighbours at a time under
+// KURAGE_SIMD=avx2|avx512. Sums reduce per chunk, then in order: the
 // result does not depend on the thread count. Limits: boundary coupling needs density_sum "volume"
 // and the Jacobi divergence solve; a still tank keeps some unrest at the default tolerances
 // (docs/design/physics.md); a telescopic membrane solved as unknowns tears where it stretches.
