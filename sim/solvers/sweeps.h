@@ -49,8 +49,7 @@ enum class SweepIsa { Scalar, Avx2, Avx512, Lanes };
 // neighbour of each (index and s_ij), a group's rows as many as its longest list; past a list's
 // end its lane holds the particle itself with slope 0 (count says where the list ends). Groups
 // start at multiples of 8 and so lie within one NeighborLists chunk, whose rows they share.
-// (Consecutive particles are close, so a row's eight neighbours mostly share cache lines: grouping
-// a chunk's particles by list length instead, to pad fewer rows, made a step slower.)
+// Consecutive particles are close, so a row's eight neighbours mostly share cache lines.
 struct alignas(64) LaneRow {
   uint32_t idx[8];
   float slope[8];
