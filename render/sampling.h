@@ -103,14 +103,26 @@ inline void orthonormalBasis(const Eigen::Vector3f& n, Eigen::Vector3f& t, Eigen
   b = {c, sign + n.y() * n.y() * a, -n.y()};
 }
 
-// Cosine-weighted direction about unit n; pdf = cos / pi.
-inline Eigen::Vector3f sampleCosineHemisphere(const Eigen::Vector3f& n, float u1, float u2) {
+// The cosine-weighted direction of (u1, u2) in a frame (t, b, n): (r cos phi, r sin phi, z), r =
+// sqrt(u1), phi = 2 pi u2, z = sqrt(1 - u1); what sampleCosineHemisphere turns about n, so that
+// fixed points can be warped once.
+inline Eigen::Vector3f cosineHemisphereLocal(float u1, float u2) {
   const float r = std::sqrt(u1);
   const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u1))};
+}
+
+// A local direction (cosineHemisphereLocal) in the frame (t, b, n) of orthonormalBasis(n, t, b).
+inline Eigen::Vector3f fromLocal(const Eigen::Vector3f& local, const Eigen::Vector3f& t, const Eigen::Vector3f& b,
+                                 const Eigen::Vector3f& n) {
+  return (local.x() * t + local.y() * b + local.z() * n).normalized();
+}
+
+// Cosine-weighted direction about unit n; pdf = cos / pi.
+inline Eigen::Vector3f sampleCosineHemisphere(const Eigen::Vector3f& n, float u1, float u2) {
   Eigen::Vector3f t, b;
   orthonormalBasis(n, t, b);
-  const float z = std::sqrt(std::max(0.0f, 1.0f - u1));
-  return (r * std::cos(phi) * t + r * std::sin(phi) * b + z * n).normalized();
+  return fromLocal(cosineHemisphereLocal(u1, u2), t, b, n);
 }
 
 // Uniform direction inside the cone of half-angle acos(cosMax) about unit axis;

@@ -11,6 +11,7 @@
 #include "render/image.h"
 #include "render/materials.h"
 #include "render/renderer.h"
+#include "render/sampling.h"
 
 #include <gtest/gtest.h>
 #include <tbb/global_control.h>
@@ -347,6 +348,23 @@ TEST(TransmissiveShadows, SameMeanAsExactTransportUnderFlatWater) {
     const double standardError = std::sqrt((estimate[0].variance + estimate[1].variance) / 1024.0);
     EXPECT_NEAR(estimate[1].mean, estimate[0].mean, 4.0 * standardError) << degrees << " degrees";
     EXPECT_GT(estimate[0].mean, 0.05) << "exact transport found the sun";
+  }
+}
+
+TEST(Sampling, CosineDirectionFromItsLocalPartsIsTheWholeWarpBitForBit) {
+  // Whitted warps its fixed sky points once (cosineHemisphereLocal) and turns them about each
+  // normal (fromLocal); that must be, float for float, the warp the images were made with.
+  for (const Vector3f& axis : {Vector3f(0, 0, 1), Vector3f(0, 0, -1), Vector3f(0.3f, -0.5f, 0.81f), Vector3f(-0.9f, 0.2f, -0.1f)}) {
+    const Vector3f n = axis.normalized();
+    Vector3f t, b;
+    kr::orthonormalBasis(n, t, b);
+    for (int i = 0; i < 64; ++i) {
+      const float u1 = (float(i) + 0.5f) / 64.0f, u2 = kr::radicalInverse2(uint32_t(i));
+      const float r = std::sqrt(u1), phi = 2.0f * kPi * u2, z = std::sqrt(std::max(0.0f, 1.0f - u1));
+      const Vector3f whole = (r * std::cos(phi) * t + r * std::sin(phi) * b + z * n).normalized();
+      ASSERT_EQ(kr::fromLocal(kr::cosineHemisphereLocal(u1, u2), t, b, n), whole) << "point " << i;
+      ASSERT_EQ(kr::sampleCosineHemisphere(n, u1, u2), whole) << "point " << i;
+    }
   }
 }
 

@@ -52,7 +52,6 @@
 namespace kurage::render {
 namespace {
 
-using Eigen::Vector2f;
 using Eigen::Vector3f;
 
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
@@ -100,11 +99,12 @@ private:
   struct Cone {
     float width = 0.0f, spread = 0.0f;
   };
-  // Fixed points warped to sky directions, skyDirections x samples of them (one Hammersley set,
-  // shifted half a stratum off the pole); sample s of `samples` takes points s, s + samples, ...
+  // Fixed points warped to sky directions in the normal's frame (cosineHemisphereLocal),
+  // skyDirections x samples of them (one Hammersley set, shifted half a stratum off the pole); sample
+  // s of `samples` takes points s, s + samples, ...
   struct SkySet {
     int samples = 1;
-    std::vector<Vector2f> points;
+    std::vector<Vector3f> local;
   };
   // A ray's radiance, and the same with every checker's albedo replaced by the mean of its two
   // colours where textures are filtered (what edge-adaptive anti-aliasing compares: the cone
@@ -121,8 +121,9 @@ private:
     SkySet set{samples, {}};
     const int points = settings_.whitted.skyDirections * samples;
     for (int k = 0; k < points; ++k) {
-      const float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points);
-      set.points.emplace_back((float(k) + 0.5f) / float(points), v - std::floor(v));
+      float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points);
+      v -= std::floor(v);
+      set.local.push_back(cosineHemisphereLocal((float(k) + 0.5f) / float(points), v));
     }
     skySets_.push_back(std::move(set));
   }
@@ -182,11 +183,12 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& wo, const Sam
       }
   }
   Vector3f sky = Vector3f::Zero();
-  const std::vector<Vector2f>& set = sample.sky->points;
+  const std::vector<Vector3f>& set = sample.sky->local;
   const int samples = sample.sky->samples;
+  Vector3f t, b;
+  orthonormalBasis(n, t, b);
   for (size_t k = size_t(sample.index % samples); k < set.size(); k += size_t(samples)) {
-    const Vector2f& u = set[k];
-    const Vector3f wi = sampleCosineHemisphere(n, u.x(), u.y());
+    const Vector3f wi = fromLocal(set[k], t, b, n);
     if (wi.dot(g) <= 0.0f) continue;
     const Vector3f from = f.leave(hit, wi);
     if (f.groundBlocks(from, wi)) continue;
