@@ -102,8 +102,8 @@ std::vector<BenchRow> rmseRows() {
                       s.adaptive.maxSamples = hi;
                     }});
   for (const bool filter : {true, false})
-    for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{2, 4}, std::pair{4, 4}, std::pair{8, 4}, std::pair{16, 4},
-                                   std::pair{1, 16}, std::pair{4, 16}})
+    for (const auto& [spp, sky] : {std::pair{1, 4}, std::pair{2, 4}, std::pair{4, 4}, std::pair{6, 4}, std::pair{8, 4},
+                                   std::pair{16, 4}, std::pair{8, 2}, std::pair{1, 16}, std::pair{4, 16}})
       rows.push_back({std::string(filter ? "whitted, " : "whitted unfiltered, ") + std::to_string(spp) + " spp, " +
                           std::to_string(sky) + " sky rays",
                       [spp, sky, filter](S& s) {
@@ -179,6 +179,16 @@ void writeRowImages(const std::filesystem::path& dir, const std::string& label, 
   writePng(samples, dir / (name + "-samples.png"));
 }
 
+// Whether `label` contains one of the |-separated parts of `only`.
+bool labelMatches(const std::string& label, const std::string& only) {
+  for (size_t start = 0;;) {
+    const size_t end = only.find('|', start);
+    if (label.find(only.substr(start, end - start)) != std::string::npos) return true;
+    if (end == std::string::npos) return false;
+    start = end + 1;
+  }
+}
+
 int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std::optional<std::string>& referenceFile,
               const std::optional<std::string>& only, int repeat, const std::optional<std::string>& images, bool json) {
   ThreadLimit limit(threads);
@@ -214,7 +224,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     std::printf("  %-44s %9s %8s %9s %s\n", "run", "s/frame", "RMSE", "mean spp", "RMSE vs whitted@64");
   }
   for (const BenchRow& row : rmseRows()) {
-    if (only && row.label.find(*only) == std::string::npos) continue;
+    if (only && !labelMatches(row.label, *only)) continue;
     Scene scene = pathScene;
     row.set(scene.render.settings);
     render::RenderStats stats;
@@ -315,7 +325,8 @@ int benchRender(ArgParser& args) {
                 "run (OUT/surfaces, and OUT/particles for chains) at the scene's resolution; T threads (default 2).\n"
                 "--reference FILE.exr: read the reference from FILE (its size must be the frame's), or render it\n"
                 "and write it there when FILE does not exist (render a 4096-spp reference once, reuse it).\n"
-                "--rows TEXT: only the rows whose label contains TEXT (e.g. \"denoiser\", \"whitted\").\n"
+                "--rows TEXT: only the rows whose label contains TEXT (e.g. \"denoiser\", \"whitted\"), or one of\n"
+                "TEXT's |-separated parts (\"whitted, 4 spp, 4|whitted, 8 spp, 4\").\n"
                 "--repeat N: render each row N times and report the median seconds (default 1).\n"
                 "--images DIR: write each row's image and a map of its samples per pixel (grey, the most white)\n"
                 "to DIR/LABEL.png and DIR/LABEL-samples.png.\n"
