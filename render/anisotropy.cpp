@@ -101,11 +101,13 @@ std::vector<EllipsoidKernel> anisotropicKernels(const std::vector<Eigen::Vector3
         Eigen::Vector3d first = Eigen::Vector3d::Zero();
         Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
         int count = 0;
+        double nearest2 = r2;  // squared distance to the nearest other particle
         for (int c = 0; c < columnCount; ++c)
           for (size_t j = columns[size_t(c)].first; j < columns[size_t(c)].second; ++j) {
             const Eigen::Vector3d d = sorted[j].cast<double>() - xi;
             const double d2 = d.squaredNorm();
             if (d2 >= r2) continue;
+            if (d2 > 0.0) nearest2 = std::min(nearest2, d2);
             const double q = std::sqrt(d2) * invR;
             const double w = 1.0 - q * q * q;  // w_ij
             weightSum += w;
@@ -129,10 +131,12 @@ std::vector<EllipsoidKernel> anisotropicKernels(const std::vector<Eigen::Vector3
           kernel.shape = Eigen::Matrix3f::Identity() * inverseSquare;
           continue;
         }
-        Eigen::Vector3d inverseRadius2;  // 1 / a_k^2, a_k = R s~_k / s~_1
+        // 1 / a_k^2, a_k = max(R s~_k / s~_1, min(d_i, R)) (anisotropy.h).
+        const double spacing = std::min(std::sqrt(nearest2), double(radius));
+        Eigen::Vector3d inverseRadius2;
         for (int a = 0; a < 3; ++a) {
           const double clamped = std::max(s[a], largest / double(params.maxStretch));
-          const double axis = double(radius) * clamped / largest;
+          const double axis = std::max(double(radius) * clamped / largest, spacing);
           inverseRadius2[a] = 1.0 / (axis * axis);
         }
         const Eigen::Matrix3d& q = eigen.eigenvectors();

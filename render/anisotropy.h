@@ -10,8 +10,14 @@
 //   covariance      C_i   = sum_j w_ij (x_j - x_i^w)(x_j - x_i^w)^T / sum_j w_ij
 //   C_i = Q diag(s_1, s_2, s_3) Q^T with s_1 >= s_2 >= s_3 (eigenvalues: variances, m^2)
 //   clamped         s~_k  = max(s_k, s_1 / maxStretch)   (Yu & Turk's k_r)
-// The kernel is the ellipsoid with axes Q e_k and radii a_k = R s~_k / s~_1: the longest axis
-// keeps the isotropic radius R. (Yu & Turk scale the radii by a constant k_s times the variances
+// The kernel is the ellipsoid with axes Q e_k and radii a_k = max(R s~_k / s~_1, min(d_i, R)),
+// d_i the distance from i to its nearest neighbour: the longest axis keeps the isotropic radius R,
+// and no axis is thinner than the particles' own spacing. (The variances' ratio alone flattens a
+// sheet of two or three layers, one spacing apart, to axes of about R / 3 across it, too thin to
+// join the layers: the wall splits into two sheets with a slit between them, and a stretched
+// sheet opens into holes. A particle stands for about a spacing cube of matter, so a blob one
+// spacing thick joins the layers and leaves a single-layer sheet as thin as k_r allows when the
+// spacing is at most R / k_r.) (Yu & Turk scale the radii by a constant k_s times the variances
 // instead; tying the longest axis to R keeps a particle in the bulk of a fluid at the isotropic
 // metaball, so that R and T keep their meaning, and leaves no absolute constant to tune.) A
 // particle with fewer than minNeighbours neighbours (spray, a lone particle) keeps the sphere

@@ -512,7 +512,8 @@ std::vector<Eigen::Vector3f> sheet(int m, float spacing, const Eigen::Vector3f& 
 TEST(AnisotropicKernels, SheetFlattensAcrossItsNormalByTheMaximumStretch) {
   const Eigen::Vector3f n = Eigen::Vector3f(1, 2, 3).normalized();
   const Eigen::Vector3f u = n.unitOrthogonal(), v = n.cross(u);
-  const std::vector<Eigen::Vector3f> points = sheet(6, 0.5f, {1, 2, 3}, u, v);
+  // Spacing 0.2 < R / k_r, so that k_r, not the spacing, sets the thinnest axis.
+  const std::vector<Eigen::Vector3f> points = sheet(6, 0.2f, {1, 2, 3}, u, v);
   AnisotropyParams params;
   params.maxStretch = 4.0f;
   const float radius = 1.0f;
@@ -590,6 +591,53 @@ TEST(AnisotropicKernels, SheetSurfaceIsThinAndDoesNotDependOnTheSheetsOrientatio
     EXPECT_NEAR(d, 0.2075 * params.radius, 0.5 * params.voxelSize) << "normal " << n.transpose();
     if (reference < 0.0) reference = d;
     EXPECT_NEAR(d, reference, 0.5 * params.voxelSize) << "normal " << n.transpose();
+  }
+}
+
+TEST(AnisotropicKernels, NoAxisIsThinnerThanTheSpacingToTheNearestNeighbour) {
+  // A sheet 1 m apart, R = 2 m, k_r = 4: the variances flatten it to R / 4 = 0.5 m across, the
+  // nearest neighbour keeps that axis at 1 m; in the plane the radius stays R.
+  const Eigen::Vector3f n = Eigen::Vector3f(1, 2, 3).normalized();
+  const Eigen::Vector3f u = n.unitOrthogonal(), v = n.cross(u);
+  const std::vector<Eigen::Vector3f> points = sheet(6, 1.0f, {1, 2, 3}, u, v);
+  AnisotropyParams params;
+  params.neighbourRadius = 1.5f;
+  const EllipsoidKernel& k = anisotropicKernels(points, 2.0f, params)[13 * 6 + 6];
+  EXPECT_NEAR(n.dot(k.shape * n), 1.0f, 1e-3f);
+  EXPECT_NEAR(u.dot(k.shape * u), 0.25f, 1e-3f);
+}
+
+// Two layers of particles `spacing` apart across (z), each a square lattice `stretch` spacings
+// apart in x and y: a shell wall (the jellyfish's bell is two layers, the membrane three) whose
+// sheet has been stretched.
+std::vector<Eigen::Vector3f> stretchedWall(float spacing, float stretch) {
+  std::vector<Eigen::Vector3f> out;
+  for (int layer = 0; layer < 2; ++layer)
+    for (int i = -8; i <= 8; ++i)
+      for (int j = -8; j <= 8; ++j) out.emplace_back(spacing * stretch * float(i), spacing * stretch * float(j), spacing * float(layer));
+  return out;
+}
+
+TEST(ThinBodies, StretchedTwoLayerWallIsOneSlabWithNoSlitBetweenItsLayers) {
+  // The jellyfish's body surface (scenes/jellyfish.json: R = 0.9 m, T = 0.5, anisotropic kernels,
+  // spacing 0.5 m) on a wall of its two layers, at rest and stretched in its plane as the bell is
+  // where it bulges: down the normal through the wall, on a particle's line and between the
+  // lattice's particles, the level set is inside from half a spacing below the lower layer to half a
+  // spacing above the upper one, with no slit of outside between the layers.
+  const pipeline::Scene scene = pipeline::loadScene(std::string(KURAGE_SOURCE_DIR) + "/scenes/jellyfish.json");
+  const MetaballParams params = scene.surface.bodies;
+  ASSERT_EQ(params.kernel, MetaballKernel::Anisotropic);
+  const float spacing = scene.sim.bodies.at(0).spacingMetres(scene.sim.fluid.spacing);
+  ASSERT_FLOAT_EQ(spacing, 0.5f);
+  for (const float stretch : {1.0f, 1.2f, 1.4f}) {
+    const LevelSet ls = buildMetaballLevelSet(stretchedWall(spacing, stretch), params);
+    for (const float offset : {0.0f, 0.5f}) {
+      const float x = offset * spacing * stretch + 0.01f, y = offset * spacing * stretch - 0.02f;
+      float outside = -1.0f;  // the height of the first point found outside, if any
+      for (float z = -0.25f * spacing; z <= 1.25f * spacing; z += 0.25f * params.voxelSize)
+        if (outside < -0.5f && ls.sample(Eigen::Vector3f(x, y, z)) >= 0.0f) outside = z;
+      EXPECT_LT(outside, -0.5f) << "stretch " << stretch << ", at (" << x << ", " << y << "): outside at z = " << outside;
+    }
   }
 }
 
