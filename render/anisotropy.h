@@ -14,8 +14,8 @@
 // d_i the distance from i to its nearest neighbour: the longest axis keeps the isotropic radius R,
 // and no axis is thinner than the particles' own spacing. (The variances' ratio alone flattens a
 // sheet of two or three layers, one spacing apart, to axes of about R / 3 across it, too thin to
-// join the layers: the wall splits into two sheets with a slit between them, and a stretched
-// sheet opens into holes. A particle stands for about a spacing cube of matter, so a blob one
+// join the layers: the wall splits into two sheets with a slit between them, the deeper the more
+// the sheet is stretched in its plane. A particle stands for about a spacing cube of matter, so a blob one
 // spacing thick joins the layers and leaves a single-layer sheet as thin as k_r allows when the
 // spacing is at most R / k_r.) (Yu & Turk scale the radii by a constant k_s times the variances
 // instead; tying the longest axis to R keeps a particle in the bulk of a fluid at the isotropic
