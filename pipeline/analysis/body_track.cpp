@@ -159,18 +159,41 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     auto it = std::upper_bound(rows_.begin(), rows_.end(), t + 1e-9, [](double v, const Row& r) { return v < r.time; });
     return it == rows_.begin() ? rows_.begin() : std::prev(it);
   };
-  // The level's mean over the rows in [t - kLevelWindow, t] (waves and a swimming body's
-  // breathing move a single frame's).
+  // The level's mean over the rows in (t - w, t] (waves and a swimming body's breathing move a
+  // single frame's): w is kLevelWindow, or with a pulsed muscle whole periods of its pulses, at
+  // least kLevelWindow, and none before the pulses start (a body at rest displaces otherwise than a
+  // pulsing one, and the start's transient is over by then) where a whole period fits after it.
   constexpr double kLevelWindow = 3.0;  // s
+  double period = 0.0, pulsesFrom = 0.0;
+  for (const sim::BodyParams& b : params_.bodies)
+    for (const sim::MuscleParams& m : b.muscles)
+      if (m.force.type == sim::CurveType::Pulse && m.force.period > 0.0f && period == 0.0) {
+        period = m.force.period;
+        pulsesFrom = m.force.start;
+      }
+  auto window = [&](double t) {
+    if (!(period > 0.0)) return kLevelWindow;
+    const double whole = period * std::ceil(kLevelWindow / period - 1e-9);
+    const double fit = std::floor((t - pulsesFrom) / period + 1e-9);
+    return t - whole >= pulsesFrom - 1e-9 || fit < 1.0 ? whole : fit * period;
+  };
+  struct Mean {
+    double level, from, to;  // the mean, and the first and last rows' times
+  };
   auto meanLevel = [&](double t) {
+    const double w = window(t);
     double sum = 0.0;
     int count = 0;
-    for (auto it = rowBefore(t); it->time >= t - kLevelWindow - 1e-9; --it) {
+    auto it = rowBefore(t);
+    const double to = it->time;
+    double from = to;
+    for (; it->time > t - w + 1e-9; --it) {
       sum += it->level;
       ++count;
+      from = it->time;
       if (it == rows_.begin()) break;
     }
-    return sum / count;
+    return Mean{count > 0 ? sum / count : rowBefore(t)->level, from, to};
   };
   const double last = rows_.back().time;
   const sim::ContainerParams& box = params_.container;
@@ -188,8 +211,8 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     const double emitted = double(emitters[e].spawned()) * particleVolume;
     const Row& before = *rowBefore(start);
     const Row& after = *rowBefore(settled);
-    const double levelBefore = meanLevel(start), levelSettled = meanLevel(settled);
-    const double rise = levelSettled - levelBefore, expected = emitted / floorArea;
+    const Mean levelBefore = meanLevel(start), levelSettled = meanLevel(settled);
+    const double rise = levelSettled.level - levelBefore.level, expected = emitted / floorArea;
     nlohmann::json pour = {{"start_s", start},
                            {"end_s", end},
                            {"particles", emitters[e].spawned()},
@@ -197,8 +220,10 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
                            {"nozzle_volume_m3", nozzle},
                            {"emitted_volume_m3", emitted},
                            {"emitted_over_nozzle", nozzle > 0.0 ? emitted / nozzle : 0.0},
-                           {"level_before_m", levelBefore},
-                           {"level_settled_m", levelSettled},
+                           {"level_before_m", levelBefore.level},
+                           {"level_before_rows_s", {levelBefore.from, levelBefore.to}},
+                           {"level_settled_m", levelSettled.level},
+                           {"level_settled_rows_s", {levelSettled.from, levelSettled.to}},
                            {"settled_at_s", after.time},
                            {"level_rise_m", rise},
                            {"expected_rise_m", expected},
@@ -221,8 +246,9 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
           {"floor_area_m2", floorArea},
           {"particle_volume_m3", particleVolume},
           {"note", "per emitter: its particles' volume at rest density against nozzle area x speed x open time; the "
-                   "water's level (the free surface of the colour field over the whole floor) from the pour's start to the last "
-                   "frame before the next pour (or the run's end) against the emitted volume over the floor area; "
+                   "water's level (the free surface of the colour field over the whole floor), its mean over a window of whole "
+                   "pulse periods (at least 3 s; none before the pulses start) before the pour's start and before the last "
+                   "frame before the next pour (or the run's end), against the emitted volume over the floor area; "
                    "each shell's horizontal drift over the pour"}};
 }
 
@@ -254,6 +280,8 @@ nlohmann::json BodyTrack::swimSummary(size_t body, size_t k) const {
 void BodyTrack::write(const fs::path& outDir) const {
   std::ostringstream csv;
   csv << "time_s,fluid_surface_z_m";
+  const bool levels = !params_.emitters.empty();
+  if (levels) csv << ",water_level_m";
   for (const sim::BodyParams& b : params_.bodies)
     csv << "," << b.name << "_x_m," << b.name << "_y_m," << b.name << "_z_m," << b.name << "_depth_m," << b.name
         << "_rest_density_factor";
@@ -266,6 +294,7 @@ void BodyTrack::write(const fs::path& outDir) const {
   csv << "\n";
   for (const Row& r : rows_) {
     csv << r.time << "," << r.surface;
+    if (levels) csv << "," << r.level;
     for (size_t b = 0; b < r.centres.size(); ++b)
       csv << "," << r.centres[b].x() << "," << r.centres[b].y() << "," << r.centres[b].z() << ","
           << r.surface - r.centres[b].z() << "," << r.factors[b];

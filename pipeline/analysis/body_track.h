@@ -71,10 +71,13 @@ public:
   // Per emitter, for run.json: its pour against the nozzle's flow and the level's settled rise.
   // - nozzle_volume_m3 = pi r^2 v (min(end, t_run) - start); emitted_volume_m3 = its particles
   //   times m / rho0 (the water they make at rest density);
-  // - the level's rise (its mean over the 3 s before each end: waves and a swimming body's
-  //   breathing move one frame's by 0.1 m in scenes/jellyfish.json) from the pour's start to the
-  //   last row before the next pour starts (or the run's end), against emitted_volume / container floor area (a pour
-  //   that overlaps another, or ends too near the next, counts the other's water too);
+  // - the level's rise from the pour's start to the last row before the next pour starts (or the
+  //   run's end), each the level's mean over the rows of a window before it (waves and a swimming
+  //   body's breathing move one frame's by 0.1 m in scenes/jellyfish.json): 3 s, or with a pulsed
+  //   muscle whole periods of its pulses, at least 3 s and none before the pulses start where a
+  //   whole period fits after them (a body at rest displaces otherwise, and the start's transient
+  //   is over), against emitted_volume / container floor area (a pour that overlaps another, or
+  //   ends too near the next, counts the other's water too);
   // - each shell body's horizontal drift over the pour (start to end) and whether it is away from
   //   the nozzle (drift . (centre - nozzle) > 0, horizontally, at the start).
   // Null without emitters or rows.
