@@ -466,3 +466,30 @@ TEST(Measures, HydrostaticTrackReadsTheSlabsAndTheSurface) {
   EXPECT_FLOAT_EQ(float(rmsSpeed(moving, 0)), 2.0f);
   EXPECT_EQ(rmsSpeed(moving, 1), 0.0);
 }
+
+// What bodies take of the water's level: the box round the body particles (h + l beyond them),
+// less its water's particle volume, over the floor area. A tank 8 x 8 m with 4 m of water on the
+// lattice (l = 0.5 m, h = 1 m) whose eight particles round (4, 4, 2) give way to one body particle:
+// the box [2.5, 5.5)^2 x [0.5, 3.5) lacks their 1 m^3, 1/64 m over the floor.
+TEST(Measures, BodiesDisplacementIsTheBodiesBoxLessItsWater) {
+  sim::SimParams params;
+  params.fluid.spacing = 0.5f;
+  params.fluid.supportRadius = 2.0f;
+  params.container.min = {0, 0, 0};
+  params.container.max = {8, 8, 8};
+  sim::ParticleSet p;
+  const float m = params.fluid.restDensity * 0.125f;
+  int64_t id = 0;
+  for (int i = 0; i < 16; ++i)
+    for (int j = 0; j < 16; ++j)
+      for (int k = 0; k < 8; ++k) {
+        const float x = 0.25f + 0.5f * i, y = 0.25f + 0.5f * j, z = 0.25f + 0.5f * k;
+        if (std::fabs(x - 4.0f) < 0.5f && std::fabs(y - 4.0f) < 0.5f && std::fabs(z - 2.0f) < 0.5f) continue;
+        p.add(x, y, z, 0, 0, 0, params.fluid.restDensity, m, id++, 0);
+      }
+  EXPECT_EQ(bodiesDisplacement(params, p, 4.0), 0.0) << "no body";
+  p.add(4.0f, 4.0f, 2.0f, 0, 0, 0, params.fluid.restDensity, m, id++, 1);
+  EXPECT_NEAR(bodiesDisplacement(params, p, 4.0), 1.0 / 64.0, 1e-6);
+  // Up to the level only: at 3 m the box's top 0.5 m, a full layer of water, is left out.
+  EXPECT_NEAR(bodiesDisplacement(params, p, 3.0), 1.0 / 64.0, 1e-6);
+}

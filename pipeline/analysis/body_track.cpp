@@ -33,6 +33,7 @@ std::string BodyTrack::saveState() const {
     out.value(r.time);
     out.value(r.surface);
     out.value(r.level);
+    out.value(r.displaced);
     std::vector<double> centres;
     for (const Eigen::Vector3d& c : r.centres) centres.insert(centres.end(), {c.x(), c.y(), c.z()});
     out.array(centres);
@@ -63,6 +64,7 @@ void BodyTrack::restoreState(const std::string& bytes) {
     r.time = in.value<double>();
     r.surface = in.value<double>();
     r.level = in.value<double>();
+    r.displaced = in.value<double>();
     std::vector<double> centres;
     in.arrayOf(centres, 3 * bodies);
     for (size_t b = 0; b < bodies; ++b) r.centres.emplace_back(centres[3 * b], centres[3 * b + 1], centres[3 * b + 2]);
@@ -106,7 +108,10 @@ void BodyTrack::record(const sim::Simulation& simulation) {
     std::nth_element(fluidZ.begin(), fluidZ.begin() + long(k), fluidZ.end());
     row.surface = fluidZ[k];
   }
-  if (!params_.emitters.empty()) row.level = waterLevel(params_, p);
+  if (!params_.emitters.empty()) {
+    row.level = waterLevel(params_, p);
+    row.displaced = bodiesDisplacement(params_, p, row.level);
+  }
   for (size_t b = 0; b < bodies; ++b) {
     row.centres.push_back(mass[b] > 0 ? Eigen::Vector3d(centre[b] / mass[b]) : Eigen::Vector3d::Zero());
     row.factors.push_back(count[b] > 0 ? factor[b] / count[b] : 1.0);
@@ -178,22 +183,24 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     return t - whole >= pulsesFrom - 1e-9 || fit < 1.0 ? whole : fit * period;
   };
   struct Mean {
-    double level, from, to;  // the mean, and the first and last rows' times
+    double level, water, from, to;  // the means of the level and of level - displaced; the first and last rows' times
   };
   auto meanLevel = [&](double t) {
     const double w = window(t);
-    double sum = 0.0;
+    double sum = 0.0, water = 0.0;
     int count = 0;
     auto it = rowBefore(t);
     const double to = it->time;
     double from = to;
     for (; it->time > t - w + 1e-9; --it) {
       sum += it->level;
+      water += it->level - it->displaced;
       ++count;
       from = it->time;
       if (it == rows_.begin()) break;
     }
-    return Mean{count > 0 ? sum / count : rowBefore(t)->level, from, to};
+    const Row& only = *rowBefore(t);
+    return count > 0 ? Mean{sum / count, water / count, from, to} : Mean{only.level, only.level - only.displaced, to, to};
   };
   const double last = rows_.back().time;
   const sim::ContainerParams& box = params_.container;
@@ -213,6 +220,7 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     const Row& after = *rowBefore(settled);
     const Mean levelBefore = meanLevel(start), levelSettled = meanLevel(settled);
     const double rise = levelSettled.level - levelBefore.level, expected = emitted / floorArea;
+    const double waterRise = levelSettled.water - levelBefore.water;
     nlohmann::json pour = {{"start_s", start},
                            {"end_s", end},
                            {"particles", emitters[e].spawned()},
@@ -227,7 +235,11 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
                            {"settled_at_s", after.time},
                            {"level_rise_m", rise},
                            {"expected_rise_m", expected},
-                           {"rise_over_expected", expected > 0.0 ? rise / expected : 0.0}};
+                           {"rise_over_expected", expected > 0.0 ? rise / expected : 0.0},
+                           {"bodies_displacement_before_m", levelBefore.level - levelBefore.water},
+                           {"bodies_displacement_settled_m", levelSettled.level - levelSettled.water},
+                           {"water_rise_m", waterRise},
+                           {"water_rise_over_expected", expected > 0.0 ? waterRise / expected : 0.0}};
     const Row& to = *rowBefore(end);
     nlohmann::json drifts = nlohmann::json::array();
     for (size_t b = 0; b < params_.bodies.size(); ++b) {
@@ -248,7 +260,9 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
           {"note", "per emitter: its particles' volume at rest density against nozzle area x speed x open time; the "
                    "water's level (the free surface of the colour field over the whole floor), its mean over a window of whole "
                    "pulse periods (at least 3 s; none before the pulses start) before the pour's start and before the last "
-                   "frame before the next pour (or the run's end), against the emitted volume over the floor area; "
+                   "frame before the next pour (or the run's end), against the emitted volume over the floor area; the same of "
+                   "the water's own level (the level less what the bodies' box holds beyond its water's particle volume, "
+                   "which a bell's pulses move); "
                    "each shell's horizontal drift over the pour"}};
 }
 
@@ -281,7 +295,7 @@ void BodyTrack::write(const fs::path& outDir) const {
   std::ostringstream csv;
   csv << "time_s,fluid_surface_z_m";
   const bool levels = !params_.emitters.empty();
-  if (levels) csv << ",water_level_m";
+  if (levels) csv << ",water_level_m,bodies_displacement_m";
   for (const sim::BodyParams& b : params_.bodies)
     csv << "," << b.name << "_x_m," << b.name << "_y_m," << b.name << "_z_m," << b.name << "_depth_m," << b.name
         << "_rest_density_factor";
@@ -294,7 +308,7 @@ void BodyTrack::write(const fs::path& outDir) const {
   csv << "\n";
   for (const Row& r : rows_) {
     csv << r.time << "," << r.surface;
-    if (levels) csv << "," << r.level;
+    if (levels) csv << "," << r.level << "," << r.displaced;
     for (size_t b = 0; b < r.centres.size(); ++b)
       csv << "," << r.centres[b].x() << "," << r.centres[b].y() << "," << r.centres[b].z() << ","
           << r.surface - r.centres[b].z() << "," << r.factors[b];

@@ -46,6 +46,7 @@ public:
     double time = 0.0;
     double surface = 0.0;
     double level = 0.0;  // the water's level (scenes with emitters; 0 otherwise)
+    double displaced = 0.0;  // what the bodies take of it (bodiesDisplacement; scenes with emitters)
     std::vector<Eigen::Vector3d> centres;  // per body: its centre of mass (particle-mass weighted)
     std::vector<double> factors;           // per body: mean rest-density factor
     std::vector<double> forces;            // per muscle: as applied in the last step (at t = 0 the curve's)
@@ -77,7 +78,9 @@ public:
   //   muscle whole periods of its pulses, at least 3 s and none before the pulses start where a
   //   whole period fits after them (a body at rest displaces otherwise, and the start's transient
   //   is over), against emitted_volume / container floor area (a pour that overlaps another, or
-  //   ends too near the next, counts the other's water too);
+  //   ends too near the next, counts the other's water too); and the same of the water's own level
+  //   (the level less what the bodies take of it, bodiesDisplacement): the pour's water, which a
+  //   bell whose pulses fade between the windows does not move;
   // - each shell body's horizontal drift over the pour (start to end) and whether it is away from
   //   the nozzle (drift . (centre - nozzle) > 0, horizontally, at the start).
   // Null without emitters or rows.

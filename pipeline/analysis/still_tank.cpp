@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace kurage::pipeline {
 
@@ -89,6 +90,33 @@ double waterLevel(const sim::SimParams& params, const sim::ParticleSet& p) {
   const Eigen::Vector3f size = params.container.max - params.container.min;
   return colourLevel(column, double(size.x()) * double(size.y()), params.fluid.restDensity,
                      params.fluid.supportRadiusMetres(), params.fluid.spacing);
+}
+
+double bodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& p, double level) {
+  const sim::ContainerParams& box = params.container;
+  const float reach = params.fluid.supportRadiusMetres() + params.fluid.spacing;
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
+  bool any = false;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] != 0) {
+      const Eigen::Vector3f x(p.x[i], p.y[i], p.z[i]);
+      lo = lo.cwiseMin(x);
+      hi = hi.cwiseMax(x);
+      any = true;
+    }
+  if (!any) return 0.0;
+  lo = (lo.array() - reach).max(box.min.array());
+  hi = (hi.array() + reach).min(box.max.array());
+  hi.z() = std::min(hi.z(), float(double(box.min.z()) + level));
+  if ((hi.array() <= lo.array()).any()) return 0.0;
+  double water = 0.0;
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] == 0 && p.x[i] >= lo.x() && p.x[i] < hi.x() && p.y[i] >= lo.y() && p.y[i] < hi.y() &&
+        p.z[i] >= lo.z() && p.z[i] < hi.z())
+      water += double(p.mass[i]) / double(params.fluid.restDensity);
+  const Eigen::Vector3d extent = (hi - lo).cast<double>();
+  const Eigen::Vector3f floor = box.max - box.min;
+  return (extent.x() * extent.y() * extent.z() - water) / (double(floor.x()) * double(floor.y()));
 }
 
 void HydrostaticTrack::record(const sim::ParticleSet& p) {

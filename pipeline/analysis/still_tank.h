@@ -95,4 +95,12 @@ private:
 // raises by its volume over the floor area), m above the container's floor.
 double waterLevel(const sim::SimParams& params, const sim::ParticleSet& particles);
 
+// What bodies take of the water's level (ours): the box round every body particle (their extent
+// plus h + l on each side, within the container, up to `level` above its floor), its volume less
+// its fluid particles' volume at rest density (m / rho0 each), over the container's floor area, m.
+// That is the bodies' own volume, their contact gap and the packing of the water in the box, which
+// a body's shape moves (a pulsing bell's mean displacement is larger than the same bell's at rest);
+// waterLevel less this is the level of the water alone. 0 without body particles.
+double bodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& particles, double level);
+
 }  // namespace kurage::pipeline
