@@ -29,9 +29,10 @@
 // eta_i / eta_t (Snell's law at normal incidence); surface curvature is ignored. A checker is
 // averaged over the cone's footprint in closed form (FrameScene::filteredAlbedo), so a far
 // checker ground converges to its mean where point samples alias. The sun, lights and sky are
-// not filtered. Alongside the radiance each ray returns its edge value (PathFeatures::edge, what
-// edge-adaptive anti-aliasing compares): the same tree with every filtered checker's albedo at
-// the mean of its two colours, so a checker's edges, which the filter handles, do not count.
+// not filtered. Where the render loop asks for features (edge-adaptive anti-aliasing), each ray
+// returns alongside the radiance its edge value (PathFeatures::edge, what it compares): the same
+// tree with every filtered checker's albedo at the mean of its two colours, so a checker's edges,
+// which the filter handles, do not count.
 //
 // Camera samples: samplesPerPixel fixed sub-pixel positions of a Hammersley set shifted half a
 // stratum in ((s + 1/2)/n, frac(radicalInverse2(s) + 1/2n)), the lens point the same two numbers
@@ -89,7 +90,8 @@ public:
     const SkySet* sky = &skySets_.front();
     for (const SkySet& set : skySets_)
       if (set.samples == n) sky = &set;
-    const Traced traced = trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, {s, sky}, counters, &hitSomething);
+    const Traced traced =
+        trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, {s, sky, features != nullptr}, counters, &hitSomething);
     if (features) features->edge = traced.edge;
     return traced.value;
   }
@@ -112,10 +114,12 @@ private:
   struct Traced {
     Vector3f value = Vector3f::Zero(), edge = Vector3f::Zero();
   };
-  // The camera sample a ray belongs to: its index and its count's sky set.
+  // The camera sample a ray belongs to: its index, its count's sky set, and whether its edge value
+  // is wanted (Traced::edge stays 0 otherwise).
   struct Sample {
     int index = 0;
     const SkySet* sky = nullptr;
+    bool edges = false;
   };
   void addSkySet(int samples) {
     SkySet set{samples, {}};
@@ -226,7 +230,7 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
   const float width = cone.width + cone.spread * hit.t;
   const bool filtered = cone.spread > 0.0f;
   const Vector3f albedo = filtered ? f.filteredAlbedo(hit, direction, width) : hit.albedo;
-  const Vector3f edgeAlbedo = filtered ? f.meanAlbedo(hit) : albedo;
+  const Vector3f edgeAlbedo = !sample.edges ? Vector3f::Zero() : filtered ? f.meanAlbedo(hit) : albedo;
   Traced radiance;
   const auto follow = [&](const ScatterSample& s, const Vector3f& factor) {
     const float branch = weight * factor.maxCoeff();
@@ -240,7 +244,7 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
     }
     const Traced t = trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, next, sample, counters, nullptr);
     radiance.value += factor.cwiseProduct(t.value);
-    radiance.edge += factor.cwiseProduct(t.edge);
+    if (sample.edges) radiance.edge += factor.cwiseProduct(t.edge);
   };
   // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
   const auto fresnel = [&] {
@@ -254,7 +258,8 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
   switch (material.type) {
     case MaterialType::Diffuse: {
       const Vector3f light = direct(hit, wo, sample, counters);
-      radiance = {albedo.cwiseProduct(light), edgeAlbedo.cwiseProduct(light)};
+      radiance.value = albedo.cwiseProduct(light);
+      if (sample.edges) radiance.edge = edgeAlbedo.cwiseProduct(light);
       break;
     }
     case MaterialType::Mirror:
@@ -274,10 +279,11 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
         follow(s, Vector3f::Constant(F));
       const Vector3f light = direct(hit, wo, sample, counters) * (1.0f - F);
       radiance.value += albedo.cwiseProduct(albedo).cwiseProduct(light);
-      radiance.edge += edgeAlbedo.cwiseProduct(edgeAlbedo).cwiseProduct(light);
+      if (sample.edges) radiance.edge += edgeAlbedo.cwiseProduct(edgeAlbedo).cwiseProduct(light);
       break;
     }
   }
+  if (!sample.edges) return {attenuation.cwiseProduct(radiance.value), Vector3f::Zero()};
   return {attenuation.cwiseProduct(radiance.value), attenuation.cwiseProduct(radiance.edge)};
 }
 
