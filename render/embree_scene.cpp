@@ -227,6 +227,115 @@ struct Geometry {
   std::unique_ptr<std::vector<CapPlane>> capPlanes;       // caps: capFilter's data, by primitive ID
 };
 
+const Material& geometryMaterial(const Geometry& g) {
+  return g.curves ? g.curves->material : g.mesh ? g.mesh->material : g.spheres->material;
+}
+
+// The unit geometric and shading normals of a hit at `point` on primitive primID of `g` (u, v and
+// embreeNg: Embree's hit coordinates and normal), pointing out of the object; -direction where
+// the geometry gives none.
+void hitNormals(const Geometry& g, unsigned primID, float u, float v, const Vector3f& point, const Vector3f& embreeNg,
+                const Vector3f& direction, Vector3f& ng, Vector3f& ns) {
+  if (g.curves) {
+    const auto [t, index] = g.primitives[primID];
+    const Tube& tube = g.curves->tubes[t];
+    Vector3f centre;  // of the circle (tube) or sphere (cap) the hit lies on
+    if (g.caps) {
+      centre = index == 0 ? tube.points.front() : tube.points.back();
+    } else {
+      const int i = static_cast<int>(index);
+      centre = bspline(tubeControlPoint(tube, i - 1), tubeControlPoint(tube, i), tubeControlPoint(tube, i + 1),
+                       tubeControlPoint(tube, i + 2), std::clamp(u, 0.0f, 1.0f))
+                   .head<3>();
+    }
+    // Embree's Ng of a round curve is the swept surface's normal (outward; the taper tilts it
+    // along the curve), of a sphere the radial direction; both are made to point away from the
+    // centre line, out of the tube, as the materials expect.
+    const Vector3f radial = point - centre;
+    ng = embreeNg.normalized();
+    if (!ng.allFinite()) ng = radial.normalized();
+    else if (ng.dot(radial) < 0.0f) ng = -ng;
+    ns = ng;
+  } else if (g.mesh) {
+    const TriangleMesh& mesh = *g.mesh->mesh;
+    const Eigen::Vector3i& tri = mesh.triangles[primID];
+    const Vector3f& p0 = mesh.positions[tri[0]];
+    ng = (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0).normalized();  // CCW: outward
+    ns = ng;
+    if (!mesh.normals.empty()) {  // smooth shading: barycentric interpolation of vertex normals
+      const Vector3f n = (1.0f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
+      if (n.squaredNorm() > 0.0f) ns = n.normalized();
+      if (ns.dot(ng) < 0.0f) ng = -ng;  // trust the level set's outward gradient
+    }
+  } else {
+    ng = (point - g.spheres->centres[primID]).normalized();
+    ns = ng;
+  }
+  if (!ng.allFinite()) ng = ns = -direction;
+}
+
+// An Embree ray for an occlusion query of origin + t direction, t in (0, tfar).
+RTCRay segment(const Vector3f& origin, const Vector3f& direction, float tfar) {
+  RTCRay ray{};
+  ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
+  ray.dir_x = direction.x(), ray.dir_y = direction.y(), ray.dir_z = direction.z();
+  ray.tnear = 0.0f;
+  ray.tfar = tfar;
+  ray.mask = 0xFFFFFFFFu;
+  return ray;
+}
+
+// An occlusion query collecting the dielectric surfaces along its ray (EmbreeScene::crossings).
+// Embree hands the filter the context's address, so the context comes first.
+struct CrossingQuery {
+  RTCIntersectContext context;
+  const std::vector<Geometry>* geometries = nullptr;
+  bool clipOn = false;
+  Vector3f clipPoint, clipNormal;
+  float epsilon = 0.0f;
+  Vector3f origin, direction;
+  Crossing* out = nullptr;
+  int capacity = 0, count = 0;
+};
+
+// The context filter of CrossingQuery (after the geometry's own, capFilter): rejects clipped hits
+// and records and rejects dielectric ones; any other hit, or one more crossing than there is room
+// for, is accepted and ends the query as occluded.
+void crossingFilter(const RTCFilterFunctionNArguments* args) {
+  auto* query = reinterpret_cast<CrossingQuery*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] == 0) continue;
+    const float t = RTCRayN_tfar(args->ray, args->N, i);
+    const Vector3f point = query->origin + t * query->direction;
+    if (query->clipOn && (point - query->clipPoint).dot(query->clipNormal) > 0.0f) {
+      args->valid[i] = 0;
+      continue;
+    }
+    const unsigned geomID = RTCHitN_geomID(args->hit, args->N, i);
+    const Geometry& g = (*query->geometries)[geomID];
+    const Material& material = geometryMaterial(g);
+    if (material.type != MaterialType::Dielectric) continue;  // opaque: occluded
+    bool seen = false;
+    for (int k = 0; k < query->count && !seen; ++k)
+      seen = query->out[k].geomID == geomID && std::abs(query->out[k].t - t) <= query->epsilon;
+    if (seen) {
+      args->valid[i] = 0;
+      continue;
+    }
+    if (query->count == query->capacity) continue;  // too many: occluded
+    Crossing& c = query->out[query->count++];
+    c.t = t;
+    c.material = &material;
+    c.geomID = geomID;
+    Vector3f ns;
+    const Vector3f embreeNg(RTCHitN_Ng_x(args->hit, args->N, i), RTCHitN_Ng_y(args->hit, args->N, i),
+                            RTCHitN_Ng_z(args->hit, args->N, i));
+    hitNormals(g, RTCHitN_primID(args->hit, args->N, i), RTCHitN_u(args->hit, args->N, i),
+               RTCHitN_v(args->hit, args->N, i), point, embreeNg, query->direction, c.ng, ns);
+    args->valid[i] = 0;
+  }
+}
+
 // The static meshes: owned copies, the committed Embree geometries of those with triangles and
 // what each refers to, and their largest coordinate magnitude.
 struct StaticMeshes {
@@ -355,6 +464,7 @@ void EmbreeScene::update(const RenderScene& scene) {
     geometries.push_back(std::move(caps));
     for (const Tube& tube : set.tubes) scale = std::max(scale, largestCoordinate(tube.points));
   }
+  rtcSetSceneFlags(top.get(), RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION);  // crossings()
   rtcSetSceneBuildQuality(top.get(), RTC_BUILD_QUALITY_HIGH);
   rtcCommitScene(top.get());
   d.throwIfError("scene build");
@@ -408,12 +518,7 @@ bool EmbreeScene::occluded(const Vector3f& origin, const Vector3f& direction, fl
   }
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray{};
-  ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
-  ray.dir_x = direction.x(), ray.dir_y = direction.y(), ray.dir_z = direction.z();
-  ray.tnear = 0.0f;
-  ray.tfar = tfar;
-  ray.mask = 0xFFFFFFFFu;
+  RTCRay ray = segment(origin, direction, tfar);
   rtcOccluded1(d.scene.get(), &context, &ray);
   ++counters.total;
   return ray.tfar == -kInfinity;  // Embree marks a hit by setting tfar to -inf
@@ -427,54 +532,42 @@ Hit EmbreeScene::surface(const Vector3f& origin, const Vector3f& direction, cons
   hit.point = origin + e.t * direction;
   const Geometry& g = d.geometries[e.geomID];
   const unsigned primID = e.primID;
-  const float u = e.u, v = e.v;
+  hitNormals(g, primID, e.u, e.v, hit.point, e.ng, direction, hit.ng, hit.ns);
+  hit.material = &geometryMaterial(g);
   if (g.curves) {
-    const auto [t, index] = g.primitives[primID];
-    const Tube& tube = g.curves->tubes[t];
-    Vector3f centre;  // of the circle (tube) or sphere (cap) the hit lies on
-    if (g.caps) {
-      centre = index == 0 ? tube.points.front() : tube.points.back();
-    } else {
-      const int i = static_cast<int>(index);
-      centre = bspline(tubeControlPoint(tube, i - 1), tubeControlPoint(tube, i), tubeControlPoint(tube, i + 1),
-                       tubeControlPoint(tube, i + 2), std::clamp(u, 0.0f, 1.0f))
-                   .head<3>();
-    }
-    // Embree's Ng of a round curve is the swept surface's normal (outward; the taper tilts it
-    // along the curve), of a sphere the radial direction; both are made to point away from the
-    // centre line, out of the tube, as the materials expect.
-    const Vector3f radial = hit.point - centre;
-    hit.ng = e.ng.normalized();
-    if (!hit.ng.allFinite()) hit.ng = radial.normalized();
-    else if (hit.ng.dot(radial) < 0.0f) hit.ng = -hit.ng;
-    hit.ns = hit.ng;
-    hit.material = &g.curves->material;
+    const Tube& tube = g.curves->tubes[g.primitives[primID].first];
     hit.albedo = checkerAlbedo(g.curves->material, g.curves->material.albedo, hit.point);
     hit.objectId = tube.objectId != 0 ? tube.objectId : g.curves->objectId;
   } else if (g.mesh) {
-    const TriangleMesh& mesh = *g.mesh->mesh;
-    const Eigen::Vector3i& tri = mesh.triangles[primID];
-    const Vector3f& p0 = mesh.positions[tri[0]];
-    hit.ng = (mesh.positions[tri[1]] - p0).cross(mesh.positions[tri[2]] - p0).normalized();  // CCW: outward
-    hit.ns = hit.ng;
-    if (!mesh.normals.empty()) {  // smooth shading: barycentric interpolation of vertex normals
-      const Vector3f n = (1.0f - u - v) * mesh.normals[tri[0]] + u * mesh.normals[tri[1]] + v * mesh.normals[tri[2]];
-      if (n.squaredNorm() > 0.0f) hit.ns = n.normalized();
-      if (hit.ns.dot(hit.ng) < 0.0f) hit.ng = -hit.ng;  // trust the level set's outward gradient
-    }
-    hit.material = &g.mesh->material;
     hit.albedo = checkerAlbedo(g.mesh->material, g.mesh->material.albedo, hit.point);
     hit.objectId = g.mesh->objectId;
   } else {
     const SphereSet& set = *g.spheres;
-    hit.ng = (hit.point - set.centres[primID]).normalized();
-    hit.ns = hit.ng;
-    hit.material = &set.material;
     hit.albedo = set.colours.empty() ? set.material.albedo : set.colours[primID];
     hit.objectId = set.objectId;
   }
-  if (!hit.ng.allFinite()) hit.ng = hit.ns = -direction;
   return hit;
+}
+
+int EmbreeScene::crossings(const Vector3f& origin, const Vector3f& direction, float tfar, RayCounters& counters,
+                           Crossing* out, int capacity) const {
+  const Impl& d = *impl_;
+  CrossingQuery query;
+  rtcInitIntersectContext(&query.context);
+  query.context.filter = crossingFilter;
+  query.geometries = &d.geometries;
+  query.clipOn = d.clipOn;
+  query.clipPoint = d.clipPoint;
+  query.clipNormal = d.clipNormal;
+  query.epsilon = d.epsilon;
+  query.origin = origin;
+  query.direction = direction;
+  query.out = out;
+  query.capacity = capacity;
+  RTCRay ray = segment(origin, direction, tfar);
+  rtcOccluded1(d.scene.get(), &query.context, &ray);
+  ++counters.total;
+  return ray.tfar == -kInfinity ? -1 : query.count;
 }
 
 float EmbreeScene::epsilon() const { return impl_->epsilon; }

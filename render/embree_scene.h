@@ -35,6 +35,15 @@
 
 namespace kurage::render {
 
+// A surface a shadow ray crosses (EmbreeScene::crossings): its distance, material and unit
+// geometric normal, outward as EmbreeScene::surface orients it.
+struct Crossing {
+  float t = 0.0f;
+  const Material* material = nullptr;
+  Eigen::Vector3f ng = Eigen::Vector3f::Zero();
+  unsigned geomID = 0;
+};
+
 // A hit in the Embree geometry, as the query returns it.
 struct EmbreeHit {
   float t = std::numeric_limits<float>::infinity();
@@ -62,6 +71,14 @@ public:
   // Whether anything blocks the segment origin + t direction, t in (0, tfar).
   bool occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tfar,
                 RayCounters& counters) const;
+  // Every dielectric surface along origin + t direction, t in (0, tfar), past clipped hits, in one
+  // traversal (an occlusion query whose filter records and rejects each dielectric hit, Embree's
+  // "all hits" pattern), in no particular order, into out[0 .. capacity). Returns how many, or -1
+  // when a surface of another material lies on the segment or there are more than `capacity`. A
+  // hit on the same geometry within epsilon() of one recorded counts once (a primitive split
+  // across BVH leaves is reported twice; a ray through a shared edge meets both triangles).
+  int crossings(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tfar, RayCounters& counters,
+                Crossing* out, int capacity) const;
   // The surface point of a hit along the ray it was found on: position, normals (outward),
   // material, albedo, object id.
   Hit surface(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, const EmbreeHit& hit) const;

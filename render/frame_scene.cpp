@@ -85,30 +85,28 @@ Hit FrameScene::intersect(const Vector3f& origin, const Vector3f& direction, Ray
   return hit;
 }
 
-Vector3f FrameScene::transmittance(Vector3f origin, const Vector3f& direction, float tfar,
+Vector3f FrameScene::transmittance(const Vector3f& origin, const Vector3f& direction, float tfar,
                                    RayCounters& counters) const {
   if (!transmissiveShadows)
     return geometry.occluded(origin, direction, tfar, counters) ? Vector3f::Zero() : Vector3f::Ones();
+  Crossing crossings[kMaxShadowCrossings];
+  const int count = geometry.crossings(origin, direction, tfar, counters, crossings, kMaxShadowCrossings);
+  if (count < 0) return Vector3f::Zero();
+  std::sort(crossings, crossings + count, [](const Crossing& a, const Crossing& b) { return a.t < b.t; });
   Vector3f through = Vector3f::Ones();
   float etendue = 1.0f;  // the product of ior^2 entered and 1/ior^2 left
-  for (int crossing = 0; crossing < kMaxShadowCrossings; ++crossing) {
-    EmbreeHit e;
-    if (!geometry.intersect(origin, direction, 0.0f, tfar, counters, e)) return through * etendue;
-    const Hit hit = geometry.surface(origin, direction, e);
-    const float t = e.t;
-    const Material& m = *hit.material;
-    if (m.type != MaterialType::Dielectric) return Vector3f::Zero();
-    const float cosine = direction.dot(hit.ng);
+  float previous = 0.0f;  // distance of the last crossing
+  for (int k = 0; k < count; ++k) {
+    const Crossing& c = crossings[k];
+    const Material& m = *c.material;
+    const float cosine = direction.dot(c.ng);
     const bool leaving = cosine > 0.0f;  // the segment just travelled was inside
     through *= 1.0f - fresnelDielectric(std::abs(cosine), 1.0f, m.ior);
-    if (leaving) through = through.cwiseProduct((-m.absorption * t).array().exp().matrix());
+    if (leaving) through = through.cwiseProduct((-m.absorption * (c.t - previous)).array().exp().matrix());
     etendue *= leaving ? 1.0f / (m.ior * m.ior) : m.ior * m.ior;
-    if (through.maxCoeff() <= 0.0f) return Vector3f::Zero();
-    origin = leave(hit, direction);
-    tfar = tfar == kInfinity ? kInfinity : tfar - t;
-    if (!(tfar > 0.0f)) return through * etendue;
+    previous = c.t;
   }
-  return Vector3f::Zero();
+  return through * etendue;
 }
 
 Vector3f FrameScene::filteredAlbedo(const Hit& hit, const Vector3f& direction, float width) const {

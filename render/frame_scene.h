@@ -19,7 +19,9 @@
 // the camera's path out of the water does not undo it. For a flat surface over a parallel floor
 // the unbent ray then gives exactly the irradiance of the refracted paths (conservation of
 // etendue, n^2 cos dw invariant); a ray through a parallel slab from air to air keeps (1 - F)^2,
-// the slab's exact single-pass transmission. At most 16 crossings; an opaque surface gives 0.
+// the slab's exact single-pass transmission. The surfaces on the segment come from one traversal
+// (EmbreeScene::crossings), sorted by distance, the absorbed lengths measured between consecutive
+// crossings; an opaque surface, or more than 16 crossings, give 0.
 // Without transmissive shadows any surface blocks.
 #pragma once
 
@@ -44,7 +46,7 @@ struct FrameScene {
   // leaves the scene).
   Hit intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, RayCounters& counters) const;
   // Fraction of light that reaches `origin` along unit `direction` from distance tfar (see above).
-  Eigen::Vector3f transmittance(Eigen::Vector3f origin, const Eigen::Vector3f& direction, float tfar,
+  Eigen::Vector3f transmittance(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float tfar,
                                 RayCounters& counters) const;
   // Whether the infinite ground stands in the way of the ray (shadow rays ignore it otherwise: it
   // casts no shadows, but the sky below its horizon must not light anything above it). `origin`

@@ -20,6 +20,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -471,6 +472,20 @@ TEST(Tracer, EnvironmentImageIsEquirectangularWithZUp) {
   EXPECT_EQ(kr::environmentRadiance(e, Vector3f(-1, -0.2f, 0.3f).normalized()), Vector3f(0, 2, 0));
 }
 
+namespace {
+
+// A 10 x 10 m slab, z in [1, 2], its faces outward and each split along its diagonal.
+kr::TriangleMesh slabZ1To2() {
+  kr::TriangleMesh slab;
+  const float s = 5.0f;
+  slab.positions = {{-s, -s, 1}, {s, -s, 1}, {s, s, 1}, {-s, s, 1}, {-s, -s, 2}, {s, -s, 2}, {s, s, 2}, {-s, s, 2}};
+  slab.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  return slab;
+}
+
+}  // namespace
+
 TEST(Tracer, TransmissiveShadowsPassWaterWithFresnelAndAbsorption) {
   // A glass slab (n = 1.5, absorption 0.5 / m, 1 m thick, z in [1, 2]) over a white ground, a
   // point sun straight down with E = pi, black sky, direct light only, and the camera below the
@@ -478,11 +493,7 @@ TEST(Tracer, TransmissiveShadowsPassWaterWithFresnelAndAbsorption) {
   // (normal incidence in and out; no noise). The ray offset against self-intersection (1e-4 of
   // the scene's size, 0.5 mm here) shortens the path inside by up to 1 mm: tolerance 5e-4.
   // Without transmissive shadows the ground under the slab is black.
-  kr::TriangleMesh slab;
-  const float s = 5.0f;
-  slab.positions = {{-s, -s, 1}, {s, -s, 1}, {s, s, 1}, {-s, s, 1}, {-s, -s, 2}, {s, -s, 2}, {s, s, 2}, {-s, s, 2}};
-  slab.triangles = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
-                    {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  const kr::TriangleMesh slab = slabZ1To2();
   kr::Material glass;
   glass.type = kr::MaterialType::Dielectric;
   glass.ior = 1.5f;
@@ -498,6 +509,48 @@ TEST(Tracer, TransmissiveShadowsPassWaterWithFresnelAndAbsorption) {
   EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), expected, 5e-4f);
   settings.transmissiveShadows = false;
   EXPECT_NEAR(kr::renderFrame(scene, settings).at(1, 1).x(), 0.0f, 1e-6f);
+}
+
+TEST(EmbreeScene, CrossingsCountEachSurfaceOnceAndStopAtOpaqueOnes) {
+  // A glass slab (z in [1, 2]) whose faces are split along their diagonals x = y: a vertical ray
+  // on the diagonal meets both triangles of each face at the same distance, and must count one
+  // crossing per face, with outward normals (down at z = 1, up at z = 2). An opaque sphere above
+  // the slab makes the ray occluded (-1), the clip plane below it removes it again, and a slab
+  // the ray crosses more often than there is room for is occluded too.
+  const kr::TriangleMesh slab = slabZ1To2();
+  kr::Material glass;
+  glass.type = kr::MaterialType::Dielectric;
+  glass.ior = 1.5f;
+  kr::RenderScene scene;
+  scene.meshes.push_back({&slab, glass});
+  kr::EmbreeScene geometry;
+  geometry.update(scene);
+  kr::RayCounters counters;
+  kr::Crossing out[4];
+  const Vector3f origin(1, 1, 0), up(0, 0, 1);
+  const float inf = std::numeric_limits<float>::infinity();
+  ASSERT_EQ(geometry.crossings(origin, up, inf, counters, out, 4), 2);
+  std::sort(out, out + 2, [](const kr::Crossing& a, const kr::Crossing& b) { return a.t < b.t; });
+  EXPECT_NEAR(out[0].t, 1.0f, 1e-5f);
+  EXPECT_NEAR(out[1].t, 2.0f, 1e-5f);
+  EXPECT_NEAR(out[0].ng.z(), -1.0f, 1e-6f);
+  EXPECT_NEAR(out[1].ng.z(), 1.0f, 1e-6f);
+  EXPECT_EQ(out[0].material->type, kr::MaterialType::Dielectric);
+  EXPECT_EQ(geometry.crossings(origin, up, 1.5f, counters, out, 4), 1);  // the segment ends inside
+  EXPECT_EQ(geometry.crossings(origin, up, inf, counters, out, 1), -1);  // no room for the second
+
+  kr::SphereSet ball;
+  ball.centres = {{1, 1, 4}};
+  ball.radius = 0.5f;
+  scene.spheres.push_back(ball);
+  geometry.update(scene);
+  EXPECT_EQ(geometry.crossings(origin, up, inf, counters, out, 4), -1);
+  EXPECT_EQ(geometry.crossings(origin, up, 3.0f, counters, out, 4), 2);  // stops short of the ball
+  scene.clip.enabled = true;
+  scene.clip.point = {0, 0, 3};
+  scene.clip.normal = {0, 0, 1};  // removes z > 3: the ball
+  geometry.update(scene);
+  EXPECT_EQ(geometry.crossings(origin, up, inf, counters, out, 4), 2);
 }
 
 namespace {
