@@ -205,7 +205,8 @@ void distanceAndInverse(const float* x, const float* y, const float* z, float xi
 template <PressureForce Form, bool Pressure, bool Cubic>
 void accelerate(const NeighborLists& neighbors, ParticleSet& particles, GradientKernel kernel,
                 const ViscosityKernel& viscosity, float dynamicViscosity, const Eigen::Vector3f& gravity,
-                const WallSums& walls, const float* correction, const float* boundaryGradient) {
+                const WallSums& walls, const float* correction, const float* boundaryGradient,
+                ViscosityLanes* lanes = nullptr) {
   const float* x = particles.x.data();
   const float* y = particles.y.data();
   const float* z = particles.z.data();
@@ -227,6 +228,67 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
   const bool penalty = walls.penaltyStiffness > 0.0f;
   const float lapC = viscosity.laplacianCoefficient * dynamicViscosity;
   const float tiny2 = 1e-12f * h * h;
+  // a_i from particle i's neighbour sums: the walls' terms added, over rho_i, plus gravity
+  const auto finish = [&](size_t i, float fpx, float fpy, float fpz, float fvx, float fvy, float fvz) {
+    const float xi = x[i], yi = y[i], zi = z[i];
+    const float pi = p[i];
+    const float rhoI = rho[i];
+    const float piOverRho2 = pi / (rhoI * rhoI);
+    float wx = 0, wy = 0, wz = 0;  // wall pressure force density
+    if (Pressure && boundaryGradient) {
+      // Boundary particles: psi_b = rho0_i V_b, rho_b = rho0_i (Akinci 2012, eq. 10). A body
+      // particle's walls carry its own pressure, p_b = p_i (mirrored); a fluid particle's carry
+      // none (p_b = 0), the rest of their push being the penalty below (header).
+      const float rho0i = particles.restDensity[i];
+      const float pb = kind[i] != 0 || !penalty ? pi : 0.0f;
+      float factor;
+      if constexpr (Form == PressureForce::Mueller2003) factor = 0.5f * (pi + pb);  // sum psi (p_i + p_b) / (2 rho_b)
+      else factor = rhoI * rho0i * (piOverRho2 + pb / (rho0i * rho0i));
+      wx -= factor * boundaryGradient[3 * i];
+      wy -= factor * boundaryGradient[3 * i + 1];
+      wz -= factor * boundaryGradient[3 * i + 2];
+    }
+    if (Pressure && penalty && kind[i] == 0) {
+      const Eigen::Vector3f push = rhoI * wallPenalty(walls, xi, yi, zi);  // a force density, like the others
+      wx += push.x(); wy += push.y(); wz += push.z();
+    }
+    if (Pressure && walls.weights) {
+      // Virtual wall particles: rest density rho0, the pressure of particle i (mirror).
+      const WallContribution c = boxWallContribution(*walls.weights, walls.box, h, xi, yi, zi);
+      float factor;
+      if constexpr (Form == PressureForce::Mueller2003) factor = pi / walls.restDensity;
+      else factor = rhoI * (piOverRho2 + pi / (walls.restDensity * walls.restDensity));
+      wx += factor * c.gradient.x(); wy += factor * c.gradient.y(); wz += factor * c.gradient.z();
+    }
+    const float invRho = 1.0f / rhoI;
+    ax[i] = (gradC * fpx + wx + lapC * fvx) * invRho + gravity.x();
+    ay[i] = (gradC * fpy + wy + lapC * fvy) * invRho + gravity.y();
+    az[i] = (gradC * fpz + wz + lapC * fvz) * invRho + gravity.z();
+  };
+  if (!Pressure && lanes && lanes->lists) {
+    // Eight particles at a time on the solver's interleaved lists (sweeps.h, the lanes path; the
+    // same floats): first each particle's records (x, y, z, m / rho) and (vx, vy, vz, 0).
+    const size_t n = particles.size();
+    lanes->x.resize(n);
+    lanes->v.resize(n);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4096), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        lanes->x[i] = Float4{x[i], y[i], z[i], m[i] / rho[i]};
+        lanes->v[i] = Float4{vx[i], vy[i], vz[i], 0.0f};
+      }
+    });
+    const solvers::LaneLists& lists = *lanes->lists;
+    const auto sum = solvers::sweepTable(solvers::SweepIsa::Lanes).viscosityLanes;
+    tbb::parallel_for(size_t(0), lists.rows.size(), [&](size_t ch) {
+      for (size_t gi = lists.groupsBegin(ch); gi < lists.groupsEnd(ch); ++gi) {
+        const solvers::LaneGroup& g = lists.groups[gi];
+        Float4 fv[solvers::LaneLists::kWidth];
+        sum(lists.rows[ch].data(), g, lanes->x.data(), lanes->v.data(), h, tiny2, fv);
+        for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], 0.0f, 0.0f, 0.0f, fv[l][0], fv[l][1], fv[l][2]);
+      }
+    });
+    return;
+  }
   tbb::parallel_for(tbb::blocked_range<size_t>(0, particles.size(), 512), [&](const tbb::blocked_range<size_t>& range) {
     // |r_ij| and 1 / |r_ij| of one particle's neighbours, on the stack (the step allocates
     // nothing: StepLoop.AllocatesNothingOnceRunning); a particle with more neighbours takes them
@@ -293,36 +355,7 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
         }
         fpx += press * ux; fpy += press * uy; fpz += press * uz;
       }
-      float wx = 0, wy = 0, wz = 0;  // wall pressure force density
-      if (Pressure && boundaryGradient) {
-        // Boundary particles: psi_b = rho0_i V_b, rho_b = rho0_i (Akinci 2012, eq. 10). A body
-        // particle's walls carry its own pressure, p_b = p_i (mirrored); a fluid particle's carry
-        // none (p_b = 0), the rest of their push being the penalty below (header).
-        const float rho0i = particles.restDensity[i];
-        const float pb = kind[i] != 0 || !penalty ? pi : 0.0f;
-        float factor;
-        if constexpr (Form == PressureForce::Mueller2003) factor = 0.5f * (pi + pb);  // sum psi (p_i + p_b) / (2 rho_b)
-        else factor = rhoI * rho0i * (piOverRho2 + pb / (rho0i * rho0i));
-        wx -= factor * boundaryGradient[3 * i];
-        wy -= factor * boundaryGradient[3 * i + 1];
-        wz -= factor * boundaryGradient[3 * i + 2];
-      }
-      if (Pressure && penalty && kind[i] == 0) {
-        const Eigen::Vector3f push = rhoI * wallPenalty(walls, xi, yi, zi);  // a force density, like the others
-        wx += push.x(); wy += push.y(); wz += push.z();
-      }
-      if (Pressure && walls.weights) {
-        // Virtual wall particles: rest density rho0, the pressure of particle i (mirror).
-        const WallContribution c = boxWallContribution(*walls.weights, walls.box, h, xi, yi, zi);
-        float factor;
-        if constexpr (Form == PressureForce::Mueller2003) factor = pi / walls.restDensity;
-        else factor = rhoI * (piOverRho2 + pi / (walls.restDensity * walls.restDensity));
-        wx += factor * c.gradient.x(); wy += factor * c.gradient.y(); wz += factor * c.gradient.z();
-      }
-      const float invRho = 1.0f / rhoI;
-      ax[i] = (gradC * fpx + wx + lapC * fvx) * invRho + gravity.x();
-      ay[i] = (gradC * fpy + wy + lapC * fvy) * invRho + gravity.y();
-      az[i] = (gradC * fpz + wz + lapC * fvz) * invRho + gravity.z();
+      finish(i, fpx, fpy, fpz, fvx, fvy, fvz);
     }
   });
 }
@@ -332,11 +365,12 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, GradientKernel kernel,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
-                              const float* correction, bool pressure, const float* boundaryGradient) {
+                              const float* correction, bool pressure, const float* boundaryGradient,
+                              ViscosityLanes* lanes) {
   const bool cubic = kernel.cubic != nullptr;
   if (!pressure)
     accelerate<PressureForce::Monaghan1992, false, false>(neighbors, particles, kernel, viscosity, dynamicViscosity,
-                                                          gravity, walls, nullptr, nullptr);
+                                                          gravity, walls, nullptr, nullptr, lanes);
   else if (form == PressureForce::Mueller2003 && cubic)
     accelerate<PressureForce::Mueller2003, true, true>(neighbors, particles, kernel, viscosity, dynamicViscosity,
                                                        gravity, walls, nullptr, boundaryGradient);

@@ -9,6 +9,7 @@
 #include "sim/neighbor_grid.h"
 #include "sim/params.h"
 #include "sim/particles.h"
+#include "sim/solvers/sweeps.h"
 
 namespace kurage::sim {
 
@@ -61,11 +62,17 @@ struct GradientKernel {
 // particle by the part of that push that is the gradient of its density's energy (p_b = 0: the
 // walls' term of -rho_i (p_i / rho_i^2) grad rho_i) and by the walls' penalty in `walls`
 // (docs/design/physics.md, "Walls under WCSPH": the mirrored push fed energy into a still tank).
+// With `pressure` false and lanes->lists set (the solver's interleaved lists of this step), the
+// viscosity is summed eight particles at a time on them (solvers/sweeps.h's lanes path: the same floats).
+struct ViscosityLanes {
+  const solvers::LaneLists* lists = nullptr;
+  std::vector<solvers::Float4> x, v;  // per particle (x, y, z, m / rho) and (vx, vy, vz, 0), kept between steps
+};
 void computeFluidAcceleration(const NeighborLists& neighbors, ParticleSet& particles, GradientKernel kernel,
                               const ViscosityKernel& viscosity, float dynamicViscosity,
                               const Eigen::Vector3f& gravity, PressureForce form, const WallSums& walls,
                               const float* correction = nullptr, bool pressure = true,
-                              const float* boundaryGradient = nullptr);
+                              const float* boundaryGradient = nullptr, ViscosityLanes* lanes = nullptr);
 
 // Per-particle kernel gradient correction matrices (symmetric 3x3, stored as xx, yy, zz, xy, xz,
 // yz per particle): L_i = M_i^-1 with M_i = sum_j V_j (-dW/dr / r) d d^T, d = r_i - r_j,

@@ -320,9 +320,10 @@ void Simulation::computeAccelerations() {
                          params_.fluid.pressureForce == PressureForce::Monaghan1992;
     const GradientKernel kernel{&spiky_, solver_->densityKernel() == DensityKernel::CubicSpline ? &cubic_ : nullptr};
     if (correct) computeGradientCorrection(neighbors_, particles_, kernel, params_.container, correction_);
+    viscosityLanes_.lists = solver_->laneLists();
     computeFluidAcceleration(neighbors_, particles_, kernel, viscosity_, mu, params_.gravity,
                              params_.fluid.pressureForce, wallSums_, correct ? correction_.data() : nullptr, pressure,
-                             boundary_ ? boundaryGradient_.data() : nullptr);
+                             boundary_ ? boundaryGradient_.data() : nullptr, &viscosityLanes_);
   }
 }
 
@@ -489,7 +490,8 @@ size_t Simulation::memoryBytes() const {
          (boundaryVolume_.capacity() + boundaryGradient_.capacity()) * sizeof(float) +
          (boundary_ ? boundary_->size() * 3 * sizeof(float) : 0) + unsolved_.capacity() +
          boundaryBodies_.sample.capacity() + (boundaryBodies_.offsets.capacity() + boundaryBodies_.patch.capacity()) * sizeof(uint32_t) +
-         boundaryBodies_.share.capacity() * sizeof(float);
+         boundaryBodies_.share.capacity() * sizeof(float) +
+         (viscosityLanes_.x.capacity() + viscosityLanes_.v.capacity()) * sizeof(solvers::Float4);
 }
 
 void Simulation::advanceTo(double t) {

@@ -173,6 +173,7 @@ private:
   std::unique_ptr<BodySystem> bodies_;
   WallSums wallSums_;
   std::vector<float> correction_;  // kernel gradient correction, 6 floats per particle
+  ViscosityLanes viscosityLanes_;  // the force pass's records on the solver's interleaved lists
   std::vector<uint8_t> unsolved_;  // per particle: held by a pin or torn this step (SolverContext::unsolved)
   BoundaryBodies boundaryBodies_;  // the bodies coupled as the fluid's boundary, this step's patches
   std::vector<Emitter> emitters_;

@@ -229,6 +229,51 @@ TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
   EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; })) << "every particle once";
 }
 
+// The force pass's viscosity on the lanes path (fluid.h's ViscosityLanes) is the scalar force
+// pass's, bit for bit, particle by particle: two chunks of random neighbourhoods (0 to 40
+// neighbours, some within the support, some beyond it, a particle its own neighbour: the
+// coincident pair's r = 0), a group's lanes of different lengths, the last group short of 8.
+TEST(Sweeps, LanesViscosityIsTheScalarForcePassBitForBit) {
+  if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const size_t n = NeighborLists::kChunk + 45;
+  ParticleSet particles;
+  for (size_t j = 0; j < n; ++j)
+    particles.add(1.5f * u(rng), 1.5f * u(rng), 1.5f * u(rng), u(rng), u(rng), u(rng), 1000.0f,
+                  1.0f + 0.5f * u(rng), int64_t(j), 0);
+  for (size_t j = 0; j < n; ++j) particles.density[j] = 1000.0f + 100.0f * u(rng);
+  NeighborLists lists;
+  lists.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<uint32_t>& buffer = lists.chunk(i / NeighborLists::kChunk);
+    const uint32_t begin = uint32_t(buffer.size());
+    for (size_t c = (i * 7) % 41; c > 0; --c) buffer.push_back(c == 3 ? uint32_t(i) : uint32_t(rng() % n));
+    lists.setRange(i, begin, uint32_t(buffer.size()));
+    lists.slopes(i / NeighborLists::kChunk).resize(buffer.size(), 0.0f);
+  }
+  solvers::LaneLists lanes;
+  lanes.build(lists, n);
+  const float h = 2.0f;
+  const SpikyKernel spiky(h);
+  const ViscosityKernel viscosity(h);
+  const Eigen::Vector3f g(0.0f, 0.0f, -9.81f);
+  const auto accelerations = [&](ViscosityLanes* path) {
+    computeFluidAcceleration(lists, particles, GradientKernel{&spiky, nullptr}, viscosity, 10.0f, g,
+                             PressureForce::Monaghan1992, WallSums{}, nullptr, false, nullptr, path);
+    return std::vector<std::vector<float>>{particles.ax, particles.ay, particles.az};
+  };
+  const auto scalar = accelerations(nullptr);
+  ViscosityLanes path;
+  path.lists = &lanes;
+  const auto lanesPath = accelerations(&path);
+  for (size_t i = 0; i < n; ++i)
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(std::bit_cast<uint32_t>(lanesPath[c][i]), std::bit_cast<uint32_t>(scalar[c][i]))
+          << "particle " << i << ", " << lists.count(i) << " neighbours, axis " << c;
+  EXPECT_NE(scalar[0], std::vector<float>(n, 0.0f)) << "the viscosity moves something";
+}
+
 // Every path's sift finds the scalar path's list, in its order, for ranges of every length.
 TEST(Sweeps, EveryPathSiftsTheSameNeighbours) {
   std::mt19937 rng(11);

@@ -39,6 +39,10 @@
 
 namespace kurage::sim {
 
+namespace solvers {
+struct LaneLists;  // sweeps.h
+}
+
 // The bodies coupled as the fluid's boundary (BodyCoupling::Boundary; sim/solvers/dfsph/dfsph.h),
 // by sorted particle index (BodySystem::boundaryPatches; rebuilt after every sort).
 struct BoundaryBodies {
@@ -179,6 +183,9 @@ public:
   virtual void report(SolverReport& /*out*/) const {}
   virtual std::vector<SolverWarning> warnings() const { return {}; }
   virtual size_t memoryBytes() const { return 0; }
+  // This step's interleaved neighbour lists (solvers/sweeps.h's lanes path) where the solver built
+  // them from this step's density pass (the force pass then sums its viscosity on them); null otherwise.
+  virtual const solvers::LaneLists* laneLists() const { return nullptr; }
   // What the solver carries from step to step (its statistics, a warm start), for checkpoints.
   virtual void saveState(StateWriter& out) const = 0;
   virtual void restoreState(StateReader& in) = 0;

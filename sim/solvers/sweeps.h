@@ -17,9 +17,9 @@
 //           (slope 0, a duplicate index: they add +-0).
 //   avx512: the same, 16 neighbours at a time (AVX-512F); the sift 16 candidates at a time, the
 //           neighbours' indices compressed to the list with one masked store.
-//   lanes:  the scalar path, but DFSPH's rate, push and factor 8 particles at a time (AVX2), lane
-//           l summing particle l's list with the scalar sums' operations in list order: the scalar
-//           path's floats. Their lists interleaved once a step (LaneLists), each row's 8 records
+//   lanes:  the scalar path, but DFSPH's rate, push and factor and its viscosity pass (fluid.cpp)
+//           8 particles at a time (AVX2), lane l summing particle l's list with the scalar sums'
+//           operations in list order: the scalar path's floats. Their lists interleaved once a step (LaneLists), each row's 8 records
 //           loaded 128 bits each and transposed, k_j and c_j by 8 loads; no horizontal sum, no tail.
 // Each path's sum for a particle is in a fixed order (per lane, then a fixed tree across lanes): a
 // run does not depend on the thread count on any path. The avx2 and avx512 paths contract to FMA
@@ -94,6 +94,12 @@ struct SweepTable {
   // fourth lane left 0), lane by lane the scalar factor's operations in list order.
   void (*factorLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response, Float4* F,
                       float* S);
+  // The viscosity's neighbour sum of the group's eight particles (fluid.h's (6) over its
+  // coefficient), lane by lane the scalar force pass's operations in list order:
+  //   fv_i = sum_j (m_j / rho_j) (h - r_ij) (v_j - v_i),  r_ij = |x_i - x_j| (0 where r_ij^2 <= tiny2)
+  // from the records x_j = (x, y, z, m_j / rho_j) and v_j = (vx, vy, vz, 0). out: 8 sums (fourth lane 0).
+  void (*viscosityLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float h,
+                         float tiny2, Float4* out);
 };
 
 // Whether this CPU (and its OS) runs a path.
@@ -112,6 +118,8 @@ const SweepTable& avx512Table();
 void rateLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float* out);
 void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* k, Float4* out);
 void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response, Float4* F, float* S);
+void viscosityLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float h, float tiny2,
+                    Float4* out);
 }  // namespace detail
 
 }  // namespace kurage::sim::solvers

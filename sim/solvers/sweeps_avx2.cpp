@@ -142,6 +142,34 @@ void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const
   _mm256_storeu_ps(S, sq);
 }
 
+void viscosityLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float h, float tiny2,
+                    Float4* out) {
+  __m256 Xi, Yi, Zi, unused, Ui, Vi, Ti;
+  lanesOf(x, g.self, Xi, Yi, Zi, unused);
+  lanesOf(v, g.self, Ui, Vi, Ti, unused);
+  const __m256 H = _mm256_set1_ps(h), Tiny2 = _mm256_set1_ps(tiny2);
+  __m256 fx = _mm256_setzero_ps(), fy = fx, fz = fx;
+  for (uint32_t r = 0; r < g.rows; ++r) {
+    const LaneRow& row = rows[g.first + r];
+    __m256 X, Y, Z, M, U, V, T;
+    lanesOf(x, row.idx, X, Y, Z, M);
+    lanesOf(v, row.idx, U, V, T, unused);
+    const __m256 dx = _mm256_sub_ps(Xi, X), dy = _mm256_sub_ps(Yi, Y), dz = _mm256_sub_ps(Zi, Z);
+    const __m256 r2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(dx, dx), _mm256_mul_ps(dy, dy)), _mm256_mul_ps(dz, dz));
+    // r_ij, 0 for coincident particles (and a padded row's own record)
+    const __m256 dist = _mm256_and_ps(_mm256_cmp_ps(r2, Tiny2, _CMP_GT_OQ), _mm256_sqrt_ps(r2));
+    const __m256 visc = _mm256_mul_ps(M, _mm256_sub_ps(H, dist));  // (m_j / rho_j) (h - r)
+    fx = _mm256_add_ps(fx, _mm256_mul_ps(visc, _mm256_sub_ps(U, Ui)));
+    fy = _mm256_add_ps(fy, _mm256_mul_ps(visc, _mm256_sub_ps(V, Vi)));
+    fz = _mm256_add_ps(fz, _mm256_mul_ps(visc, _mm256_sub_ps(T, Ti)));
+  }
+  alignas(32) float px[8], py[8], pz[8];
+  _mm256_store_ps(px, fx);
+  _mm256_store_ps(py, fy);
+  _mm256_store_ps(pz, fz);
+  for (int l = 0; l < 8; ++l) out[l] = Float4{px[l], py[l], pz[l], 0.0f};
+}
+
 const SweepTable& avx2Table() {
   static constexpr SweepTable table = simd::table<Avx2>(SweepIsa::Avx2, "avx2");
   return table;

@@ -97,6 +97,7 @@ public:
   void report(SolverReport& out) const override;
   std::vector<SolverWarning> warnings() const override;
   size_t memoryBytes() const override;
+  const solvers::LaneLists* laneLists() const override { return lanes_ ? &laneLists_ : nullptr; }
   void saveState(StateWriter& out) const override;  // statistics and the warm start by id
   void restoreState(StateReader& in) override;
 
