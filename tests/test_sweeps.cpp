@@ -318,8 +318,8 @@ void expectPathsAgree(const SimParams& p, double seconds, bool thrown, const cha
   }
 }
 
-// The lanes path's runs are the scalar path's, bit for bit (DFSPH sums with it; IISPH keeps the
-// scalar sums), on 1 and 2 threads.
+// The lanes path's runs are the scalar path's, bit for bit (DFSPH's sums and its viscosity pass
+// run on it; IISPH keeps the scalar sums), on 1 and 2 threads.
 TEST(Sweeps, LanesPathRunsAreTheScalarPathsBitForBit) {
   if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
   const auto dam = run(damBreak("dfsph"), "scalar", 1, 0.3);

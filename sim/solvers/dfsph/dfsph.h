@@ -35,7 +35,8 @@
 // applied, p_i = (k_i + q_i / dt_last) rho_i^2 (/ rho0_i^2 with "volume"), Pa. Kernel: the cubic
 // spline, its W'(r)/r per pair from the density pass. The neighbour sums of the rate, the push and
 // the factor (without the gradient correction) are solvers/sweeps.h's: 8 particles at a time where
-// the CPU runs AVX2 (the scalar sums' floats), else scalar; 8 or 16 neighbours at a time under
+// the CPU runs AVX2 (the scalar sums' floats; the force pass's viscosity then sums on the same
+// lists, laneLists()), else scalar; 8 or 16 neighbours at a time under
 // KURAGE_SIMD=avx2|avx512. Sums reduce per chunk, then in order: the
 // result does not depend on the thread count. Limits: boundary coupling needs density_sum "volume"
 // and the Jacobi divergence solve; a still tank keeps some unrest at the default tolerances
