@@ -229,7 +229,8 @@ void accelerate(const NeighborLists& neighbors, ParticleSet& particles, Gradient
   const float lapC = viscosity.laplacianCoefficient * dynamicViscosity;
   const float tiny2 = 1e-12f * h * h;
   // a_i from particle i's neighbour sums: the walls' terms added, over rho_i, plus gravity
-  const auto finish = [&](size_t i, float fpx, float fpy, float fpz, float fvx, float fvy, float fvz) {
+  const auto finish = [&](size_t i, float fpx, float fpy, float fpz, float fvx, float fvy,
+                          float fvz) __attribute__((always_inline)) {  // inlined in both loops below
     const float xi = x[i], yi = y[i], zi = z[i];
     const float pi = p[i];
     const float rhoI = rho[i];
