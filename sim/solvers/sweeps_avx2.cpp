@@ -59,6 +59,14 @@ namespace {
 inline void lanesOf(const Float4* r, const uint32_t* idx, __m256& a, __m256& b, __m256& c, __m256& d) {
   Avx2::records(r, idx, a, b, c, d);
 }
+// out[l] = (a_l, b_l, c_l, 0) for the eight lanes
+inline void storeLanes(__m256 a, __m256 b, __m256 c, Float4* out) {
+  alignas(32) float pa[8], pb[8], pc[8];
+  _mm256_store_ps(pa, a);
+  _mm256_store_ps(pb, b);
+  _mm256_store_ps(pc, c);
+  for (int l = 0; l < 8; ++l) out[l] = Float4{pa[l], pb[l], pc[l], 0.0f};
+}
 }  // namespace
 
 namespace detail {
@@ -102,11 +110,7 @@ void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const f
     ay = _mm256_add_ps(ay, _mm256_mul_ps(c, _mm256_sub_ps(Yi, Y)));
     az = _mm256_add_ps(az, _mm256_mul_ps(c, _mm256_sub_ps(Zi, Z)));
   }
-  alignas(32) float px[8], py[8], pz[8];
-  _mm256_store_ps(px, ax);
-  _mm256_store_ps(py, ay);
-  _mm256_store_ps(pz, az);
-  for (int l = 0; l < 8; ++l) out[l] = Float4{px[l], py[l], pz[l], 0.0f};
+  storeLanes(ax, ay, az, out);
 }
 
 void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response, Float4* F,
@@ -134,11 +138,7 @@ void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const
     const __m256 g2 = _mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_add_ps(_mm256_mul_ps(gy, gy), _mm256_mul_ps(gz, gz)));
     sq = _mm256_add_ps(sq, _mm256_mul_ps(C, g2));
   }
-  alignas(32) float px[8], py[8], pz[8];
-  _mm256_store_ps(px, fx);
-  _mm256_store_ps(py, fy);
-  _mm256_store_ps(pz, fz);
-  for (int l = 0; l < 8; ++l) F[l] = Float4{px[l], py[l], pz[l], 0.0f};
+  storeLanes(fx, fy, fz, F);
   _mm256_storeu_ps(S, sq);
 }
 
@@ -163,11 +163,7 @@ void viscosityLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, co
     fy = _mm256_add_ps(fy, _mm256_mul_ps(visc, _mm256_sub_ps(V, Vi)));
     fz = _mm256_add_ps(fz, _mm256_mul_ps(visc, _mm256_sub_ps(T, Ti)));
   }
-  alignas(32) float px[8], py[8], pz[8];
-  _mm256_store_ps(px, fx);
-  _mm256_store_ps(py, fy);
-  _mm256_store_ps(pz, fz);
-  for (int l = 0; l < 8; ++l) out[l] = Float4{px[l], py[l], pz[l], 0.0f};
+  storeLanes(fx, fy, fz, out);
 }
 
 const SweepTable& avx2Table() {
