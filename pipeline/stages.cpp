@@ -194,11 +194,15 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
                                                      const std::function<bool()>& stop) {
   // Kind 0 is the fluid, kind b + 1 the body b; chains are drawn as curves, not surfaces.
   std::vector<std::vector<Eigen::Vector3f>> byKind(scene.sim.bodies.size() + 1);
+  // A stretched telescopic body's particles keep the volume they stand for (render::stretchRadiusScales).
+  std::vector<std::vector<float>> factors(byKind.size());
   std::vector<Eigen::Vector3f> fluidVelocities;
   const bool airborne = scene.surface.airborne.enabled;
+  const bool hasFactors = frame.restDensityFactor.size() == frame.size();
   for (size_t i = 0; i < frame.size(); ++i) {
     const size_t kind = size_t(frame.kind[i]);
     if (kind < byKind.size()) byKind[kind].emplace_back(frame.px[i], frame.py[i], frame.pz[i]);
+    if (kind > 0 && kind < byKind.size()) factors[kind].push_back(hasFactors ? frame.restDensityFactor[i] : 1.0f);
     if (airborne && kind == 0) fluidVelocities.emplace_back(frame.vx[i], frame.vy[i], frame.vz[i]);
   }
   const std::vector<float> fluidScales =
@@ -207,7 +211,7 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
                : std::vector<float>{};
   // Errors name the scene key whose voxel size is too fine for the positions or the memory.
   const auto build = [&](const std::vector<Eigen::Vector3f>& positions, const std::vector<float>& scales,
-                         const render::MetaballParams& params, const char* key) {
+                         const render::MetaballParams& params, const char* key, float clipMargin) {
     render::LevelSet levelSet;
     const auto named = [&](const std::string& what) {
       char size[32];
@@ -223,17 +227,25 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
                                      " particles (`kurage check` estimates the memory of each stage)"));
     }
     if (scene.surface.clipToContainer) {
-      const Eigen::Vector3f margin = Eigen::Vector3f::Constant(0.25f * params.voxelSize);
+      const Eigen::Vector3f margin = Eigen::Vector3f::Constant(clipMargin);
       render::intersectWithBox(levelSet, scene.sim.container.min - margin, scene.sim.container.max + margin);
     }
     return levelSet;
   };
   std::map<std::string, render::LevelSet> surfaces;
-  surfaces.emplace("fluid", build(byKind[0], fluidScales, scene.surface.fluid, "surface.fluid.voxel_size"));
+  // The clip margins (SurfaceParams::clipToContainer): the fluid's a quarter of its voxel, a
+  // body's a quarter of its own more, so that where a body lies against a wall with the fluid
+  // behind it (a membrane pressed on the tank by the water it holds) its face is the outer one,
+  // and the fluid's blobs, wider than the sheet is thick, do not show through it.
+  const float fluidMargin = 0.25f * scene.surface.fluid.voxelSize;
+  const float bodyMargin = fluidMargin + 0.25f * scene.surface.bodies.voxelSize;
+  surfaces.emplace("fluid",
+                   build(byKind[0], fluidScales, scene.surface.fluid, "surface.fluid.voxel_size", fluidMargin));
   for (size_t b = 0; b < scene.sim.bodies.size(); ++b)
     if (scene.sim.bodies[b].shape != sim::BodyShape::Chain)
       surfaces.emplace(scene.sim.bodies[b].name,
-                       build(byKind[b + 1], {}, scene.surface.bodies, "surface.bodies.voxel_size"));
+                       build(byKind[b + 1], render::stretchRadiusScales(factors[b + 1]), scene.surface.bodies,
+                             "surface.bodies.voxel_size", bodyMargin));
   return surfaces;
 }
 

@@ -120,7 +120,9 @@ void runExportStage(const Scene& scene, const StageOptions& options, RunRecord& 
 
 // Pieces of the stages, for tests and tools.
 std::map<std::string, render::LevelSet> surfaceParticles(const Scene& scene, const std::filesystem::path& particleFile);
-// The level sets of one frame: "fluid" and one per body (chains excepted), named after it.
+// The level sets of one frame: "fluid" and one per body (chains excepted), named after it; a
+// stretched telescopic body's blobs grow with the volume its particles stand for
+// (render::stretchRadiusScales, from the frame's rest density factors).
 // `stop` ends it between the surfacing's passes (render::SurfacingStopped).
 std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const ParticleFrame& frame,
                                                      const std::function<bool()>& stop = {});

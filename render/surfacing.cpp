@@ -46,6 +46,7 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <system_error>
 #include <istream>
 #include <ostream>
@@ -199,7 +200,8 @@ void splatEllipsoid(float* field, const openvdb::Vec3d& rel, const VoxelEllipsoi
 
 // Sums the metaball field f. `shapes` (world, 1/m^2, one per position) gives each blob's
 // ellipsoid (MetaballKernel::Anisotropic); empty: spheres of radius R times `scales` (one per
-// position, in (0, 1]; empty: all 1).
+// position, in (0, kMaxRadiusScale]; empty: all 1). With shapes, `scales` (already applied to
+// the shapes) only sets the reach.
 SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::vector<Eigen::Matrix3f>& shapes,
                      const std::vector<float>& scales, const MetaballParams& params) {
   const double h = params.voxelSize;
@@ -207,8 +209,10 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::v
   const double r = static_cast<double>(params.radius) * invH;  // support radius in voxels
   const float invR2 = static_cast<float>(1.0 / (r * r));
   const float strength = params.strength;
+  // The largest support (voxels): R times the largest scale above 1, else R.
+  const double rMax = r * std::max(1.0, scales.empty() ? 1.0 : double(*std::max_element(scales.begin(), scales.end())));
   // Reach in voxels: a particle is within half a voxel of a voxel of its bin.
-  const int reach = static_cast<int>(std::ceil(r + 0.5));
+  const int reach = static_cast<int>(std::ceil(rMax + 0.5));
   const int64_t binLimit = kKeyLimit / 2 - reach - 2;  // so that leaf keys stay in range too
 
   // 1. Bin: key of the bin holding each particle's nearest voxel; sort (key, index).
@@ -253,8 +257,8 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::v
       VoxelEllipsoid& e = ellipsoids[i];
       const float entries[6] = {float(m(0, 0)), float(m(0, 1)), float(m(0, 2)), float(m(1, 1)), float(m(1, 2)), float(m(2, 2))};
       std::copy_n(entries, 6, e.m);
-      // Never past the sphere of radius R, which the bins' reach assumes.
-      for (int a = 0; a < 3; ++a) e.extent[a] = float(std::min(std::sqrt(std::max(inverse(a, a), 0.0)), r));
+      // Never past the sphere of the largest radius, which the bins' reach assumes.
+      for (int a = 0; a < 3; ++a) e.extent[a] = float(std::min(std::sqrt(std::max(inverse(a, a), 0.0)), rMax));
     }
   });
 
@@ -295,8 +299,8 @@ SummedField sumField(const std::vector<Eigen::Vector3f>& positions, const std::v
       lo = openvdb::math::minComponent(lo, q[i]);
       hi = openvdb::math::maxComponent(hi, q[i]);
     }
-    binLo[b] = lo - openvdb::Vec3d(r);
-    binHi[b] = hi + openvdb::Vec3d(r);
+    binLo[b] = lo - openvdb::Vec3d(rMax);
+    binHi[b] = hi + openvdb::Vec3d(rMax);
   });
 
   // 3. Fill every target leaf by gathering from the neighbouring bins (fixed order). Also
@@ -581,7 +585,8 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
   if (!radiusScales.empty() && radiusScales.size() != positions.size())
     throw std::invalid_argument("metaball: radius scales and positions differ in number");
   for (const float scale : radiusScales)
-    if (!(scale > 0.0f && scale <= 1.0f)) throw std::invalid_argument("metaball: a radius scale outside (0, 1]");
+    if (!(scale > 0.0f && scale <= kMaxRadiusScale))
+      throw std::invalid_argument("metaball: a radius scale outside (0, " + std::to_string(kMaxRadiusScale) + "]");
   LevelSet result;
   if (positions.empty()) {
     result.impl->grid = emptyLevelSetGrid(params.voxelSize, params.halfWidth);
@@ -597,7 +602,7 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
       if (!radiusScales.empty() && radiusScales[i] != 1.0f) shapes[i] /= radiusScales[i] * radiusScales[i];
     }
     checkStop();
-    field = sumField(centres, shapes, {}, params);
+    field = sumField(centres, shapes, radiusScales, params);
   } else {
     field = sumField(positions, {}, radiusScales, params);
   }
@@ -615,6 +620,21 @@ LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, co
   openvdb::tools::pruneLevelSet(sdf->tree());
   result.impl->grid = sdf;
   return result;
+}
+
+std::vector<float> stretchRadiusScales(const std::vector<float>& restDensityFactors) {
+  std::vector<float> scales(restDensityFactors.size(), 1.0f);
+  bool grown = false;
+  for (size_t i = 0; i < scales.size(); ++i) {
+    const float factor = restDensityFactors[i];
+    if (!(std::isfinite(factor) && factor > 0.0f))
+      throw std::invalid_argument("metaball: a rest density factor not finite and > 0");
+    if (factor >= 1.0f) continue;
+    scales[i] = std::min(std::cbrt(1.0f / factor), kMaxRadiusScale);
+    grown = grown || scales[i] > 1.0f;
+  }
+  if (!grown) scales.clear();
+  return scales;
 }
 
 namespace {

@@ -89,10 +89,25 @@ public:
 LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const MetaballParams& params,
                                const std::function<bool()>& stop = {});
 // The same with each particle's blob scaled: radius R * radiusScales[i] (the ellipsoid's axes
-// likewise), scales in (0, 1], one per position (empty: all 1; a scale of 1 gives the same bits
-// as the call above). Throws std::invalid_argument for a wrong count or a scale out of range.
+// likewise), scales in (0, kMaxRadiusScale], one per position (empty: all 1; scales of at most 1
+// with 1s give the same bits as the call above). Throws std::invalid_argument for a wrong count or
+// a scale out of range.
+constexpr float kMaxRadiusScale = 2.0f;
 LevelSet buildMetaballLevelSet(const std::vector<Eigen::Vector3f>& positions, const std::vector<float>& radiusScales,
                                const MetaballParams& params, const std::function<bool()>& stop = {});
+
+// Radius scales for particles that stand for more matter than as built: a particle whose rest
+// density is restDensityFactors[i] times its rest density as built stands for 1 / factor times
+// its volume, and its blob keeps that volume:
+//   scale_i = clamp(factor_i^(-1/3), 1, kMaxRadiusScale).
+// For a telescopic body's particle the factor is (L_i^leng)^3 (SPEC (8)-(10)), so the scale is
+// its springs' stretch 1 / L_i^leng: the blobs spread as the particles do, and a body stretched
+// uniformly by s surfaces as its rest surface scaled by s. (With blobs of radius R, a sheet
+// stretched in its plane shows holes once its spacing passes about 1.1 R, a square lattice at
+// T = s / 2, where the telescopic density still holds the fluid back.) Returns empty when every
+// scale is 1 (unstretched or compressed particles keep R, bit for bit). Factors must be finite
+// and > 0 (std::invalid_argument otherwise).
+std::vector<float> stretchRadiusScales(const std::vector<float>& restDensityFactors);
 
 // Intersects a level set with the inside of the axis-aligned box [boxMin, boxMax] (world space,
 // metres): CSG on signed distances, phi' = max(phi, phi_box), phi_box the exact signed distance to

@@ -2,6 +2,7 @@
 // field, meshing (radius, normals, winding, components), thread-count independence, and .vdb
 // file round trips and failures.
 #include "pipeline/io/surface_file.h"
+#include "pipeline/sim_frame.h"
 #include "pipeline/stages.h"
 #include "render/airborne.h"
 #include "render/anisotropy.h"
@@ -324,8 +325,38 @@ TEST(Metaball, RadiusScalesShrinkEachBlobAndScalesOfOneChangeNothing) {
   EXPECT_EQ(plain.activeVoxelCount(), ones.activeVoxelCount());
   EXPECT_TRUE(sampleVoxelCentres(plain, lo, hi) == sampleVoxelCentres(ones, lo, hi));
   EXPECT_THROW(buildMetaballLevelSet({centre}, {0.0f}, params), std::invalid_argument);
-  EXPECT_THROW(buildMetaballLevelSet({centre}, {1.5f}, params), std::invalid_argument);
+  EXPECT_THROW(buildMetaballLevelSet({centre}, {kMaxRadiusScale * 1.01f}, params), std::invalid_argument);
   EXPECT_THROW(buildMetaballLevelSet({centre}, {1.0f, 1.0f}, params), std::invalid_argument);
+}
+
+TEST(Metaball, RadiusScalesAboveOneGrowABlobPastR) {
+  // A blob at twice its radius, beside one at R: its surface is the analytic one of 2 R (the
+  // bins' reach follows the largest scale), the other's stays at R's, with isotropic and
+  // anisotropic kernels alike.
+  for (const MetaballKernel kernel : {MetaballKernel::Isotropic, MetaballKernel::Anisotropic}) {
+    MetaballParams params = metaball(1.0f, 0.5f, 1.0f, 0.05f);
+    params.kernel = kernel;
+    const Eigen::Vector3f big(0.13f, -0.07f, 0.21f), small(6.0f, 0.0f, 0.0f);
+    const LevelSet ls = buildMetaballLevelSet({big, small}, {2.0f, 1.0f}, params);
+    const double r0 = analyticRadius(params);
+    for (const Eigen::Vector3f& d : {Eigen::Vector3f(-1, 0, 0), Eigen::Vector3f(0, 0, -1), Eigen::Vector3f(0, 1, 0)})
+      EXPECT_NEAR(zeroCrossing(ls, big, d, 2.0f * params.radius), 2.0 * r0, 0.5 * params.voxelSize);
+    EXPECT_NEAR(zeroCrossing(ls, small, Eigen::Vector3f(1, 0, 0), params.radius), r0, 0.5 * params.voxelSize);
+  }
+}
+
+TEST(Metaball, StretchScalesFollowTheVolumeAndLeaveUnstretchedParticlesAlone) {
+  EXPECT_TRUE(stretchRadiusScales({}).empty());
+  EXPECT_TRUE(stretchRadiusScales({1.0f, 1.3f, 1.0f}).empty());  // at rest or compressed: R, no scales
+  const std::vector<float> scales = stretchRadiusScales({1.0f, 0.125f, 1.0f / 1.728f, 0.001f, 2.0f});
+  ASSERT_EQ(scales.size(), 5u);
+  EXPECT_EQ(scales[0], 1.0f);
+  EXPECT_FLOAT_EQ(scales[1], 2.0f);
+  EXPECT_FLOAT_EQ(scales[2], 1.2f);
+  EXPECT_EQ(scales[3], kMaxRadiusScale);
+  EXPECT_EQ(scales[4], 1.0f);
+  EXPECT_THROW(stretchRadiusScales({0.0f}), std::invalid_argument);
+  EXPECT_THROW(stretchRadiusScales({std::nanf("")}), std::invalid_argument);
 }
 
 TEST(Airborne, AJetAboveAPoolShrinksWhileStillAndDenseWaterKeepsItsRadius) {
@@ -639,6 +670,90 @@ TEST(ThinBodies, StretchedTwoLayerWallIsOneSlabWithNoSlitBetweenItsLayers) {
       EXPECT_LT(outside, -0.5f) << "stretch " << stretch << ", at (" << x << ", " << y << "): outside at z = " << outside;
     }
   }
+}
+
+// Appends a particle at rest to a cache frame, with its kind and rest density factor.
+void addParticle(pipeline::ParticleFrame& frame, const Eigen::Vector3f& p, int kind, float restDensityFactor) {
+  frame.px.push_back(p.x()), frame.py.push_back(p.y()), frame.pz.push_back(p.z());
+  for (auto* v : {&frame.vx, &frame.vy, &frame.vz}) v->push_back(0.0f);
+  frame.id.push_back(int64_t(frame.id.size()));
+  frame.kind.push_back(kind);
+  frame.restDensityFactor.push_back(restDensityFactor);
+}
+
+TEST(ThinBodies, StretchedMembraneOfRoundBlobsHasNoHole) {
+  // The membrane's body surface (scenes/membrane.json: R = 0.9 m, T = 0.5, round blobs, spacing
+  // 0.5 m, 3 layers), its sheet stretched in its plane by s (layers kept 0.5 m apart) with the
+  // telescopic density of that stretch, rest density / s^2 (the area each particle stands for):
+  // at every point between the lattice's particles, the normal through the sheet meets its inside.
+  // Surfaced as the pipeline does (pipeline::surfaceFrame). Without the stretch scales, blobs of
+  // radius R leave a hole in each lattice square from s = 2.2 (spacing 1.1 m).
+  pipeline::Scene scene = pipeline::loadScene(std::string(KURAGE_SOURCE_DIR) + "/scenes/membrane.json");
+  ASSERT_EQ(scene.surface.bodies.kernel, MetaballKernel::Isotropic);
+  scene.surface.clipToContainer = false;
+  const float spacing = scene.sim.bodies.at(0).spacingMetres(scene.sim.fluid.spacing);
+  ASSERT_FLOAT_EQ(spacing, 0.5f);
+  for (const float stretch : {1.0f, 2.4f}) {
+    pipeline::ParticleFrame frame;
+    frame.kindNames = pipeline::kindNames(scene);
+    const int n = 8;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < 3; ++k) {
+          addParticle(frame, {stretch * spacing * float(i), stretch * spacing * float(j), spacing * float(k)}, 1,
+                      1.0f / (stretch * stretch));
+        }
+    const auto surfaces = pipeline::surfaceFrame(scene, frame);
+    const LevelSet& sheet = surfaces.at(scene.sim.bodies.at(0).name);
+    size_t holes = 0, probed = 0;
+    for (int i = 2; i < n - 3; ++i)
+      for (int j = 2; j < n - 3; ++j)
+        for (const float offset : {0.25f, 0.5f}) {
+          const float x = stretch * spacing * (float(i) + offset), y = stretch * spacing * (float(j) + 0.5f);
+          bool inside = false;
+          for (float z = -spacing; z <= 3.0f * spacing && !inside; z += 0.25f * scene.surface.bodies.voxelSize)
+            inside = sheet.sample(Eigen::Vector3f(x, y, z)) < 0.0f;
+          holes += !inside;
+          ++probed;
+        }
+    EXPECT_EQ(holes, 0u) << "stretch " << stretch << ": " << holes << " of " << probed << " normals miss the sheet";
+  }
+}
+
+TEST(ThinBodies, AMembraneAgainstAWallHidesTheFluidBehindIt) {
+  // scenes/membrane.json's surfaces: its sheet (two layers, 0.5 m spacing) pressed on the tank's
+  // front wall (y = 0) by the fluid behind it (0.9 m from the wall). The fluid's blobs (R 1.6 m)
+  // reach through the sheet to the wall; both surfaces are clipped to the container, and the
+  // sheet's face must be the outer one over the whole patch, or the camera in front sees the
+  // water's face where the sheet should be.
+  pipeline::Scene scene = pipeline::loadScene(std::string(KURAGE_SOURCE_DIR) + "/scenes/membrane.json");
+  ASSERT_TRUE(scene.surface.clipToContainer);
+  ASSERT_FLOAT_EQ(scene.sim.container.min.y(), 0.0f);
+  pipeline::ParticleFrame frame;
+  frame.kindNames = pipeline::kindNames(scene);
+  for (int i = 0; i <= 12; ++i)
+    for (int k = 0; k <= 12; ++k)
+      for (const float y : {0.05f, 0.55f}) addParticle(frame, {0.5f * float(i), y, 10.0f + 0.5f * float(k)}, 1, 1.0f);
+  for (int i = 0; i <= 6; ++i)
+    for (int k = 0; k <= 6; ++k) addParticle(frame, {float(i), 0.9f, 10.0f + float(k)}, 0, 1.0f);
+  const auto surfaces = pipeline::surfaceFrame(scene, frame);
+  const LevelSet& fluid = surfaces.at("fluid");
+  const LevelSet& sheet = surfaces.at(scene.sim.bodies.at(0).name);
+  size_t fluidInFront = 0, fluidAtTheWall = 0, probed = 0;
+  for (float x = 1.0f; x <= 5.0f; x += 0.25f)
+    for (float z = 11.0f; z <= 15.0f; z += 0.25f) {
+      // March from in front of the wall into the tank: which surface is met first.
+      float sheetAt = 1.0f, fluidAt = 1.0f;
+      for (float y = -0.5f; y <= 0.5f; y += 0.005f) {
+        if (sheetAt > 0.9f && sheet.sample(Eigen::Vector3f(x, y, z)) < 0.0f) sheetAt = y;
+        if (fluidAt > 0.9f && fluid.sample(Eigen::Vector3f(x, y, z)) < 0.0f) fluidAt = y;
+      }
+      fluidAtTheWall += fluidAt < 0.05f;
+      fluidInFront += fluidAt <= sheetAt;
+      ++probed;
+    }
+  EXPECT_GT(fluidAtTheWall, probed / 2) << "the fluid's surface should reach the wall through the sheet";
+  EXPECT_EQ(fluidInFront, 0u) << fluidInFront << " of " << probed << " points show the fluid's face in front";
 }
 
 // The zero crossing along the line from `from` in direction `direction` (unit), first from
