@@ -49,7 +49,10 @@ struct SurfaceParams {
   }();
   // Every surface is intersected with the container (render::intersectWithBox), grown by a
   // quarter of the grid's voxel so that the floor and the walls, drawn at the container's faces,
-  // stay in front of the water's own faces instead of coinciding with them.
+  // stay in front of the water's own faces instead of coinciding with them; a body's by a
+  // quarter of its voxel more than the fluid's, so that where a body lies against a wall with
+  // the fluid behind it (a membrane pressed on the tank by the water it holds), its face is the
+  // outer one and the fluid's blobs, wider than the sheet is thick, do not show through it.
   bool clipToContainer = true;
 };
 

@@ -233,10 +233,7 @@ std::map<std::string, render::LevelSet> surfaceFrame(const Scene& scene, const P
     return levelSet;
   };
   std::map<std::string, render::LevelSet> surfaces;
-  // The clip margins (SurfaceParams::clipToContainer): the fluid's a quarter of its voxel, a
-  // body's a quarter of its own more, so that where a body lies against a wall with the fluid
-  // behind it (a membrane pressed on the tank by the water it holds) its face is the outer one,
-  // and the fluid's blobs, wider than the sheet is thick, do not show through it.
+  // The clip margins: a body's outside the fluid's (SurfaceParams::clipToContainer).
   const float fluidMargin = 0.25f * scene.surface.fluid.voxelSize;
   const float bodyMargin = fluidMargin + 0.25f * scene.surface.bodies.voxelSize;
   surfaces.emplace("fluid",
