@@ -1,10 +1,12 @@
 // See airborne.h. Neighbours are counted only for the fast particles, in a hash grid of cells of
-// size R over all positions; the counts are exact, so the result does not depend on the order.
+// size R over the positions in the cells around them (none when no particle is fast); the counts
+// are exact, so the result does not depend on the order.
 #include "render/airborne.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <unordered_map>
@@ -32,18 +34,34 @@ std::vector<float> airborneRadiusScales(const std::vector<Eigen::Vector3f>& posi
   if (!ok)
     throw std::invalid_argument("airborne: need R, spacing > 0, 0 < radius <= R, speed_full > speed_min, "
                                 "fill_min > fill_full");
-  const auto cell = [radius](float x) { return int64_t(std::floor(x / radius)); };
+  const auto cell = [radius](const Eigen::Vector3f& p) {
+    return Eigen::Array<int64_t, 3, 1>(int64_t(std::floor(p.x() / radius)), int64_t(std::floor(p.y() / radius)),
+                                       int64_t(std::floor(p.z() / radius)));
+  };
+  // The fast particles' weights, and the cells around them (their neighbours' cells).
+  std::vector<float> fast(positions.size());
+  Eigen::Array<int64_t, 3, 1> lo = Eigen::Array<int64_t, 3, 1>::Constant(std::numeric_limits<int64_t>::max());
+  Eigen::Array<int64_t, 3, 1> hi = -lo;
+  for (size_t i = 0; i < positions.size(); ++i) {
+    fast[i] = ramp(velocities[i].norm(), params.speedMin, params.speedFull);
+    if (fast[i] == 0.0f) continue;
+    lo = lo.min(cell(positions[i]) - 1);
+    hi = hi.max(cell(positions[i]) + 1);
+  }
+  if ((lo > hi).any()) return scales;  // none is fast
   std::unordered_map<uint64_t, std::vector<uint32_t>> grid;
-  for (size_t i = 0; i < positions.size(); ++i)
-    grid[cellKey(cell(positions[i].x()), cell(positions[i].y()), cell(positions[i].z()))].push_back(uint32_t(i));
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const Eigen::Array<int64_t, 3, 1> c = cell(positions[i]);
+    if ((c >= lo).all() && (c <= hi).all()) grid[cellKey(c.x(), c.y(), c.z())].push_back(uint32_t(i));
+  }
   const double full = 4.0 / 3.0 * std::numbers::pi * std::pow(double(radius) / spacing, 3.0);
   const float r2 = radius * radius;
   const float shrink = 1.0f - params.radius / radius;
   for (size_t i = 0; i < positions.size(); ++i) {
-    const float fast = ramp(velocities[i].norm(), params.speedMin, params.speedFull);
-    if (fast == 0.0f) continue;
+    if (fast[i] == 0.0f) continue;
     const Eigen::Vector3f& p = positions[i];
-    const int64_t cx = cell(p.x()), cy = cell(p.y()), cz = cell(p.z());
+    const Eigen::Array<int64_t, 3, 1> c = cell(p);
+    const int64_t cx = c.x(), cy = c.y(), cz = c.z();
     size_t n = 0;
     for (int64_t x = cx - 1; x <= cx + 1; ++x)
       for (int64_t y = cy - 1; y <= cy + 1; ++y)
@@ -53,7 +71,7 @@ std::vector<float> airborneRadiusScales(const std::vector<Eigen::Vector3f>& posi
           for (const uint32_t j : it->second) n += (positions[j] - p).squaredNorm() < r2;
         }
     const float sparse = 1.0f - ramp(float(double(n) / full), params.fillFull, params.fillMin);
-    scales[i] = 1.0f - fast * sparse * shrink;
+    scales[i] = 1.0f - fast[i] * sparse * shrink;
   }
   return scales;
 }
