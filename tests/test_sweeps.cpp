@@ -94,6 +94,27 @@ std::vector<std::array<float, 4>> run(const SimParams& params, const char* path,
   return kurage::test::positionsById(sim.particles());
 }
 
+// Neighbour lists for n particles over two chunks: particle i has (7 i) mod 41 random neighbours
+// (0 to 40: a group's lanes of different lengths), each with a random slope.
+NeighborLists randomLists(size_t n, std::mt19937& rng) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  NeighborLists lists;
+  lists.resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<uint32_t>& buffer = lists.chunk(i / NeighborLists::kChunk);
+    std::vector<float>& slopes = lists.slopes(i / NeighborLists::kChunk);
+    const uint32_t begin = uint32_t(buffer.size());
+    for (size_t c = (i * 7) % 41; c > 0; --c) {
+      buffer.push_back(uint32_t(rng() % n));
+      slopes.push_back(-1.0f + 0.5f * u(rng));
+    }
+    lists.setRange(i, begin, uint32_t(buffer.size()));
+  }
+  return lists;
+}
+
+bool sameBits(float a, float b) { return std::bit_cast<uint32_t>(a) == std::bit_cast<uint32_t>(b); }
+
 }  // namespace
 
 TEST(Sweeps, KurageSimdChoosesThePathAndRefusesOthers) {
@@ -177,18 +198,7 @@ TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
     k[j] = u(rng);
     response[j] = 1.0f + 0.5f * u(rng);
   }
-  NeighborLists lists;
-  lists.resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    std::vector<uint32_t>& buffer = lists.chunk(i / NeighborLists::kChunk);
-    std::vector<float>& slopes = lists.slopes(i / NeighborLists::kChunk);
-    const uint32_t begin = uint32_t(buffer.size());
-    for (size_t c = (i * 7) % 41; c > 0; --c) {
-      buffer.push_back(uint32_t(rng() % n));
-      slopes.push_back(-1.0f + 0.5f * u(rng));
-    }
-    lists.setRange(i, begin, uint32_t(buffer.size()));
-  }
+  const NeighborLists lists = randomLists(n, rng);
   solvers::LaneLists lanes;
   lanes.build(lists, n);
   ASSERT_EQ(lanes.groups.size(), (n + 7) / 8);
@@ -227,6 +237,74 @@ TEST(Sweeps, LanesSumsAreTheScalarSumsBitForBit) {
     }
   }
   EXPECT_TRUE(std::all_of(seen.begin(), seen.end(), [](int s) { return s == 1; })) << "every particle once";
+}
+
+// The lanes path's sums with the corrected gradient (rate, factor, push: solver_common.h's
+// correctedRateSum, correctedFactorSum, correctedPushSum), lane by lane, are the scalar sums bit
+// for bit, on the random neighbourhoods above with a random symmetric L_i per particle.
+TEST(Sweeps, LanesCorrectedSumsAreTheScalarSumsBitForBit) {
+  if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f);
+  const size_t n = NeighborLists::kChunk + 45;
+  std::vector<Float4> x(n), v(n), correction(3 * n), terms(2 * n);
+  std::vector<float> response(n), z(n);
+  for (size_t j = 0; j < n; ++j) {
+    x[j] = Float4{u(rng), u(rng), u(rng), 1.0f + 0.5f * u(rng)};
+    v[j] = Float4{u(rng), u(rng), u(rng), 0.0f};
+    response[j] = 1.0f + 0.5f * u(rng);
+    const float l00 = 1.0f + 0.3f * u(rng), l11 = 1.0f + 0.3f * u(rng), l22 = 1.0f + 0.3f * u(rng);
+    const float l01 = 0.2f * u(rng), l02 = 0.2f * u(rng), l12 = 0.2f * u(rng);
+    correction[3 * j] = Float4{l00, l01, l02, 0.0f};
+    correction[3 * j + 1] = Float4{l01, l11, l12, 0.0f};
+    correction[3 * j + 2] = Float4{l02, l12, l22, 0.0f};
+    terms[2 * j] = Float4{u(rng), u(rng), u(rng), u(rng)};
+    terms[2 * j + 1] = Float4{u(rng), u(rng), 10.0f * u(rng), 10.0f * u(rng)};
+    z[j] = 10.0f * u(rng);
+  }
+  const NeighborLists lists = randomLists(n, rng);
+  solvers::LaneLists lanes;
+  lanes.build(lists, n);
+  const solvers::SweepTable& path = solvers::sweepTable(SweepIsa::Lanes);
+  ASSERT_NE(path.rateCorrectedLanes, nullptr);
+  size_t checked = 0;
+  for (size_t ch = 0; ch < lists.chunkCount(); ++ch) {
+    const solvers::LaneRow* rows = lanes.rows[ch].data();
+    const float* slopes = lists.slopes(ch).data();
+    for (size_t gi = lanes.groupsBegin(ch); gi < lanes.groupsEnd(ch); ++gi) {
+      const solvers::LaneGroup& g = lanes.groups[gi];
+      Float4 t[24], plain[8], m[16];
+      float S[8], y2[8];
+      path.rateCorrectedLanes(rows, g, x.data(), v.data(), t);
+      path.factorCorrectedLanes(rows, g, x.data(), response.data(), correction.data(), plain, S);
+      path.pushCorrectedLanes(rows, g, terms.data(), z.data(), m, y2);
+      for (uint32_t l = 0; l < g.used; ++l) {
+        const size_t i = g.self[l];
+        const float* s = slopes + lists.offset(i);
+        Float4 tr[3], pr, m0, m1;
+        float sr, yr;
+        solvers::correctedRateSum(lists.begin(i), lists.end(i), s, x.data(), v.data(), x[i], v[i], tr);
+        solvers::correctedFactorSum(lists.begin(i), lists.end(i), s, x.data(), response.data(), x[i],
+                                    correction.data() + 3 * i, pr, sr);
+        solvers::correctedPushSum(lists.begin(i), lists.end(i), s, terms.data(), z.data(), m0, m1, yr);
+        const std::string at = "particle " + std::to_string(i) + ", " + std::to_string(lists.count(i)) + " neighbours";
+        for (int a = 0; a < 3; ++a)
+          for (int b = 0; b < 3; ++b) EXPECT_TRUE(sameBits(t[3 * l + a][b], tr[a][b])) << at << ", rate T" << a << b;
+        for (int b = 0; b < 3; ++b) EXPECT_TRUE(sameBits(plain[l][b], pr[b])) << at << ", factor axis " << b;
+        EXPECT_TRUE(sameBits(S[l], sr)) << at << ", factor's squares";
+        for (int b = 0; b < 4; ++b) {
+          EXPECT_TRUE(sameBits(m[2 * l][b], m0[b])) << at << ", push M " << b;
+          EXPECT_TRUE(sameBits(m[2 * l + 1][b], m1[b])) << at << ", push M/Y " << b;
+        }
+        EXPECT_TRUE(sameBits(y2[l], yr)) << at << ", push Y2";
+        if (lists.count(i) > 0) {
+          EXPECT_NE(sr, 0.0f) << at;
+        }
+        ++checked;
+      }
+    }
+  }
+  EXPECT_EQ(checked, n) << "every particle once";
 }
 
 // The force pass's viscosity on the lanes path (fluid.h's ViscosityLanes) is the scalar force
@@ -328,6 +406,29 @@ TEST(Sweeps, LanesPathRunsAreTheScalarPathsBitForBit) {
   const auto body = run(thrownAtABody(), "scalar", 2, 0.4, true);
   EXPECT_TRUE(body == run(thrownAtABody(), "lanes", 1, 0.4, true)) << "body as the boundary, 1 thread";
   EXPECT_TRUE(body == run(thrownAtABody(), "lanes", 2, 0.4, true)) << "body as the boundary, 2 threads";
+}
+
+// The same with the corrected kernel gradient (fluid.gradient_correction; the jellyfish's
+// setting), whose sums run on the lane lists too.
+TEST(Sweeps, LanesPathRunsWithTheCorrectedGradientAreTheScalarPathsBitForBit) {
+  if (!solvers::sweepSupported(SweepIsa::Lanes)) GTEST_SKIP() << "this CPU runs no AVX2";
+  SimParams damParams = damBreak("dfsph");
+  damParams.fluid.gradientCorrection = true;
+  {
+    ForcePath force("lanes");
+    Simulation sim(damParams);
+    sim.advanceTo(0.01);
+    EXPECT_NE(sim.solver().laneLists(), nullptr) << "the corrected gradient's sums on the lane lists";
+  }
+  const auto dam = run(damParams, "scalar", 1, 0.3);
+  EXPECT_TRUE(dam == run(damParams, "lanes", 1, 0.3)) << "dam break, 1 thread";
+  EXPECT_TRUE(dam == run(damParams, "lanes", 2, 0.3)) << "dam break, 2 threads";
+  EXPECT_FALSE(dam == run(damBreak("dfsph"), "lanes", 2, 0.3)) << "the correction changes the run";
+  SimParams bodyParams = thrownAtABody();
+  bodyParams.fluid.gradientCorrection = true;
+  const auto body = run(bodyParams, "scalar", 2, 0.4, true);
+  EXPECT_TRUE(body == run(bodyParams, "lanes", 1, 0.4, true)) << "body as the boundary, 1 thread";
+  EXPECT_TRUE(body == run(bodyParams, "lanes", 2, 0.4, true)) << "body as the boundary, 2 threads";
 }
 
 TEST(Sweeps, DamBreakOnEachPathMatchesTheScalarPath) { expectPathsAgree(damBreak("dfsph"), 0.3, false, "dam break"); }

@@ -105,6 +105,51 @@ inline Float4 pushSum(const uint32_t* begin, const uint32_t* end, const float* s
   return a;
 }
 
+// The corrected kernel gradient's neighbour sums (DFSPH with fluid.gradient_correction; its header
+// has the equations), L_i's rows applied by the caller. Fourth lanes meaningless.
+// Density rate: t[a] = sum_j (v_i - v_j)_a (w_j s_ij) (x_i - x_j), so that the rate is sum_a L_i,a . t[a].
+inline void correctedRateSum(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x,
+                             const Float4* v, Float4 xi, Float4 vi, Float4 t[3]) {
+  Float4 t0 = {0.0f, 0.0f, 0.0f, 0.0f}, t1 = t0, t2 = t0;
+  for (const uint32_t* it = begin; it != end; ++it, ++slope) {
+    const Float4 xj = x[*it];
+    const Float4 dv = vi - v[*it];
+    const Float4 e = (xj[3] * *slope) * (xi - xj);
+    t0 += dv[0] * e; t1 += dv[1] * e; t2 += dv[2] * e;
+  }
+  t[0] = t0; t[1] = t1; t[2] = t2;
+}
+
+// Factor: plain = sum_j w_j s_ij (x_i - x_j) (the uncorrected gradient sum) and
+// S = sum_j c_j |L_i s_ij (x_i - x_j)|^2, L_i's three rows at `rows`.
+inline void correctedFactorSum(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* x,
+                               const float* response, Float4 xi, const Float4* rows, Float4& plain, float& S) {
+  plain = Float4{0.0f, 0.0f, 0.0f, 0.0f};
+  S = 0.0f;
+  for (const uint32_t* it = begin; it != end; ++it, ++slope) {
+    const uint32_t j = *it;
+    const Float4 d = *slope * (xi - x[j]);
+    const Float4 grad = rows[0] * d[0] + rows[1] * d[1] + rows[2] * d[2];  // L_i grad W_ij
+    plain += x[j][3] * d;
+    const Float4 g2 = grad * grad;
+    S += response[j] * (g2[0] + g2[1] + g2[2]);
+  }
+}
+
+// Push: m0 = sum_j s_ij terms[2j], m1 = sum_j s_ij terms[2j + 1], y2 = sum_j s_ij z[j] (the
+// neighbours' packed w_j k_j L_j and w_j k_j L_j x_j; DFSPH's applyPressure).
+inline void correctedPushSum(const uint32_t* begin, const uint32_t* end, const float* slope, const Float4* terms,
+                             const float* z, Float4& m0, Float4& m1, float& y2) {
+  m0 = Float4{0.0f, 0.0f, 0.0f, 0.0f};
+  m1 = m0;
+  y2 = 0.0f;
+  for (const uint32_t* it = begin; it != end; ++it, ++slope) {
+    const Float4* t = terms + 2 * size_t(*it);
+    const float s = *slope;
+    m0 += s * t[0]; m1 += s * t[1]; y2 += s * z[*it];
+  }
+}
+
 // The neighbours a relaxed Jacobi iteration of relaxation w is measured for: those of a particle
 // inside a full lattice of the fluid spacing at support radius h (in spacings), at most 26 (the
 // count at h = 2 l). A relaxed Jacobi iteration's largest eigenvalue grows with the neighbour

@@ -100,9 +100,10 @@ namespace {
 constexpr const char* kNames[] = {"scalar", "avx2", "avx512", "lanes"};  // by SweepIsa
 
 constexpr SweepTable kScalar{SweepIsa::Scalar, "scalar", scalarRate, scalarPush, scalarFactor, detail::siftFour,
-                             nullptr, nullptr, nullptr, nullptr};
+                             nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
 constexpr SweepTable kLanes{SweepIsa::Lanes, "lanes", scalarRate, scalarPush, scalarFactor, detail::siftFour,
-                            detail::rateLanes, detail::pushLanes, detail::factorLanes, detail::viscosityLanes};
+                            detail::rateLanes, detail::pushLanes, detail::factorLanes, detail::viscosityLanes,
+                            detail::rateCorrectedLanes, detail::factorCorrectedLanes, detail::pushCorrectedLanes};
 
 }  // namespace
 

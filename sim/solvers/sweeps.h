@@ -17,8 +17,8 @@
 //           (slope 0, a duplicate index: they add +-0).
 //   avx512: the same, 16 neighbours at a time (AVX-512F); the sift 16 candidates at a time, the
 //           neighbours' indices compressed to the list with one masked store.
-//   lanes:  the scalar path, but DFSPH's rate, push and factor and its viscosity pass (fluid.cpp)
-//           8 particles at a time (AVX2), lane l summing particle l's list with the scalar sums'
+//   lanes:  the scalar path, but DFSPH's rate, push and factor (with the corrected gradient too)
+//           and its viscosity pass (fluid.cpp) 8 particles at a time (AVX2), lane l summing particle l's list with the scalar sums'
 //           operations in list order: the scalar path's floats. Their lists interleaved once a step (LaneLists), each row's 8 records
 //           loaded 128 bits each and transposed, k_j and c_j by 8 loads; no horizontal sum, no tail.
 // Each path's sum for a particle is in a fixed order (per lane, then a fixed tree across lanes): a
@@ -100,6 +100,15 @@ struct SweepTable {
   // from the records x_j = (x, y, z, m_j / rho_j) and v_j = (vx, vy, vz, 0). out: 8 sums (fourth lane 0).
   void (*viscosityLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float h,
                          float tiny2, Float4* out);
+  // The corrected gradient's neighbour sums (solver_common.h's correctedRateSum, correctedFactorSum,
+  // correctedPushSum) of the group's eight particles, lane by lane their operations in list order:
+  // t[3l + a] the rate's T_a; plain[l] and S[l] the factor's, L_i's rows at correction[3i..3i+3);
+  // m[2l], m[2l + 1] and y2[l] the push's, from terms (two a particle) and z.
+  void (*rateCorrectedLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, Float4* t);
+  void (*factorCorrectedLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response,
+                               const Float4* correction, Float4* plain, float* S);
+  void (*pushCorrectedLanes)(const LaneRow* rows, const LaneGroup& g, const Float4* terms, const float* z, Float4* m,
+                             float* y2);
 };
 
 // Whether this CPU (and its OS) runs a path.
@@ -120,6 +129,11 @@ void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const f
 void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response, Float4* F, float* S);
 void viscosityLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, float h, float tiny2,
                     Float4* out);
+void rateCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, Float4* t);
+void factorCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response,
+                          const Float4* correction, Float4* plain, float* S);
+void pushCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4* terms, const float* z, Float4* m,
+                        float* y2);
 }  // namespace detail
 
 }  // namespace kurage::sim::solvers

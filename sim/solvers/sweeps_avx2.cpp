@@ -24,11 +24,13 @@ struct Avx2 {
   static V gather(const float* base, const uint32_t* idx) {
     return _mm256_i32gather_ps(base, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(idx)), 4);
   }
-  // The records r[idx[0..8)] as four lanes: rows [r_k | r_k+4] transposed 4 x 4 within each half.
+  // The records r[Stride idx[0..8)] as four lanes: rows [r_k | r_k+4] transposed 4 x 4 within each half.
+  template <size_t Stride = 1>
   static void records(const Float4* r, const uint32_t* idx, V& a, V& b, V& c, V& d) {
     const auto row = [&](int k) {
-      return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(reinterpret_cast<const float*>(r + idx[k]))),
-                                  _mm_load_ps(reinterpret_cast<const float*>(r + idx[k + 4])), 1);
+      return _mm256_insertf128_ps(
+          _mm256_castps128_ps256(_mm_load_ps(reinterpret_cast<const float*>(r + Stride * idx[k]))),
+          _mm_load_ps(reinterpret_cast<const float*>(r + Stride * idx[k + 4])), 1);
     };
     const V r0 = row(0), r1 = row(1), r2 = row(2), r3 = row(3);
     const __m256d t0 = _mm256_castps_pd(_mm256_unpacklo_ps(r0, r1)), t1 = _mm256_castps_pd(_mm256_unpackhi_ps(r0, r1));
@@ -54,10 +56,15 @@ struct Avx2 {
 // past the lane's list adds the particle's own record at slope 0: a term +-0, which leaves every
 // sum as it is (a sum from +0 is never -0: x + +-0 = x for x != -0).
 namespace {
-// x, y, z and w of the records r[idx[0..8)]: 128-bit loads transposed (AMD's hardware gathers,
-// one element a cycle or slower, cost more)
+// x, y, z and w of the records r[Stride idx[0..8)]: 128-bit loads transposed (AMD's hardware
+// gathers, one element a cycle or slower, cost more)
+template <size_t Stride = 1>
 inline void lanesOf(const Float4* r, const uint32_t* idx, __m256& a, __m256& b, __m256& c, __m256& d) {
-  Avx2::records(r, idx, a, b, c, d);
+  Avx2::records<Stride>(r, idx, a, b, c, d);
+}
+// Eight loads a[idx[0..8)] (not a gather: above)
+inline __m256 loadEight(const float* a, const uint32_t* j) {
+  return _mm256_setr_ps(a[j[0]], a[j[1]], a[j[2]], a[j[3]], a[j[4]], a[j[5]], a[j[6]], a[j[7]]);
 }
 // out[l] = (a_l, b_l, c_l, 0) for the eight lanes
 inline void storeLanes(__m256 a, __m256 b, __m256 c, Float4* out) {
@@ -103,8 +110,7 @@ void pushLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const f
     const __m256 s = _mm256_load_ps(row.slope);
     __m256 X, Y, Z, W;
     lanesOf(x, row.idx, X, Y, Z, W);
-    const uint32_t* j = row.idx;  // k_j by eight loads (not a gather: above)
-    const __m256 Kj = _mm256_setr_ps(k[j[0]], k[j[1]], k[j[2]], k[j[3]], k[j[4]], k[j[5]], k[j[6]], k[j[7]]);
+    const __m256 Kj = loadEight(k, row.idx);
     const __m256 c = _mm256_mul_ps(s, _mm256_mul_ps(W, _mm256_add_ps(Ki, Kj)));  // s_ij (w_j (k_i + k_j))
     ax = _mm256_add_ps(ax, _mm256_mul_ps(c, _mm256_sub_ps(Xi, X)));
     ay = _mm256_add_ps(ay, _mm256_mul_ps(c, _mm256_sub_ps(Yi, Y)));
@@ -125,9 +131,7 @@ void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const
     const __m256 s = _mm256_load_ps(row.slope);
     __m256 X, Y, Z, W;
     lanesOf(x, row.idx, X, Y, Z, W);
-    const uint32_t* j = row.idx;  // c_j by eight loads, as k_j in the push
-    const __m256 C = _mm256_setr_ps(response[j[0]], response[j[1]], response[j[2]], response[j[3]], response[j[4]],
-                                    response[j[5]], response[j[6]], response[j[7]]);
+    const __m256 C = loadEight(response, row.idx);
     const __m256 gx = _mm256_mul_ps(s, _mm256_sub_ps(Xi, X));  // grad W_ij = s_ij (x_i - x_j)
     const __m256 gy = _mm256_mul_ps(s, _mm256_sub_ps(Yi, Y));
     const __m256 gz = _mm256_mul_ps(s, _mm256_sub_ps(Zi, Z));
@@ -164,6 +168,105 @@ void viscosityLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, co
     fz = _mm256_add_ps(fz, _mm256_mul_ps(visc, _mm256_sub_ps(T, Ti)));
   }
   storeLanes(fx, fy, fz, out);
+}
+
+void rateCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const Float4* v, Float4* t) {
+  __m256 Xi, Yi, Zi, Ui, Vi, Ti, unused;
+  lanesOf(x, g.self, Xi, Yi, Zi, unused);
+  lanesOf(v, g.self, Ui, Vi, Ti, unused);
+  // t[a] per axis b: tab += (v_i - v_j)_a e_b, e = (w_j s_ij) (x_i - x_j)
+  __m256 txx = _mm256_setzero_ps(), txy = txx, txz = txx, tyx = txx, tyy = txx, tyz = txx, tzx = txx, tzy = txx,
+         tzz = txx;
+  for (uint32_t r = 0; r < g.rows; ++r) {
+    const LaneRow& row = rows[g.first + r];
+    const __m256 s = _mm256_load_ps(row.slope);
+    __m256 X, Y, Z, W, U, V, T;
+    lanesOf(x, row.idx, X, Y, Z, W);
+    lanesOf(v, row.idx, U, V, T, unused);
+    const __m256 ws = _mm256_mul_ps(W, s);
+    const __m256 ex = _mm256_mul_ps(ws, _mm256_sub_ps(Xi, X));
+    const __m256 ey = _mm256_mul_ps(ws, _mm256_sub_ps(Yi, Y));
+    const __m256 ez = _mm256_mul_ps(ws, _mm256_sub_ps(Zi, Z));
+    const __m256 du = _mm256_sub_ps(Ui, U), dv = _mm256_sub_ps(Vi, V), dw = _mm256_sub_ps(Ti, T);
+    txx = _mm256_add_ps(txx, _mm256_mul_ps(du, ex));
+    txy = _mm256_add_ps(txy, _mm256_mul_ps(du, ey));
+    txz = _mm256_add_ps(txz, _mm256_mul_ps(du, ez));
+    tyx = _mm256_add_ps(tyx, _mm256_mul_ps(dv, ex));
+    tyy = _mm256_add_ps(tyy, _mm256_mul_ps(dv, ey));
+    tyz = _mm256_add_ps(tyz, _mm256_mul_ps(dv, ez));
+    tzx = _mm256_add_ps(tzx, _mm256_mul_ps(dw, ex));
+    tzy = _mm256_add_ps(tzy, _mm256_mul_ps(dw, ey));
+    tzz = _mm256_add_ps(tzz, _mm256_mul_ps(dw, ez));
+  }
+  alignas(32) float a[9][8];
+  const __m256 all[9] = {txx, txy, txz, tyx, tyy, tyz, tzx, tzy, tzz};
+  for (int q = 0; q < 9; ++q) _mm256_store_ps(a[q], all[q]);
+  for (int l = 0; l < 8; ++l)
+    for (int q = 0; q < 3; ++q) t[3 * l + q] = Float4{a[3 * q][l], a[3 * q + 1][l], a[3 * q + 2][l], 0.0f};
+}
+
+void factorCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const float* response,
+                          const Float4* correction, Float4* plain, float* S) {
+  __m256 Xi, Yi, Zi, unused;
+  lanesOf(x, g.self, Xi, Yi, Zi, unused);
+  // L_i's rows: Rab = row a's entry b
+  __m256 R0x, R0y, R0z, R1x, R1y, R1z, R2x, R2y, R2z;
+  lanesOf<3>(correction, g.self, R0x, R0y, R0z, unused);
+  lanesOf<3>(correction + 1, g.self, R1x, R1y, R1z, unused);
+  lanesOf<3>(correction + 2, g.self, R2x, R2y, R2z, unused);
+  __m256 px = _mm256_setzero_ps(), py = px, pz = px, sq = px;
+  for (uint32_t r = 0; r < g.rows; ++r) {
+    const LaneRow& row = rows[g.first + r];
+    const __m256 s = _mm256_load_ps(row.slope);
+    __m256 X, Y, Z, W;
+    lanesOf(x, row.idx, X, Y, Z, W);
+    const __m256 C = loadEight(response, row.idx);
+    const __m256 dx = _mm256_mul_ps(s, _mm256_sub_ps(Xi, X));  // grad W_ij = s_ij (x_i - x_j)
+    const __m256 dy = _mm256_mul_ps(s, _mm256_sub_ps(Yi, Y));
+    const __m256 dz = _mm256_mul_ps(s, _mm256_sub_ps(Zi, Z));
+    // L_i grad W_ij: row 0 d_x + row 1 d_y + row 2 d_z, added in that order
+    const __m256 gx = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(R0x, dx), _mm256_mul_ps(R1x, dy)), _mm256_mul_ps(R2x, dz));
+    const __m256 gy = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(R0y, dx), _mm256_mul_ps(R1y, dy)), _mm256_mul_ps(R2y, dz));
+    const __m256 gz = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(R0z, dx), _mm256_mul_ps(R1z, dy)), _mm256_mul_ps(R2z, dz));
+    px = _mm256_add_ps(px, _mm256_mul_ps(W, dx));
+    py = _mm256_add_ps(py, _mm256_mul_ps(W, dy));
+    pz = _mm256_add_ps(pz, _mm256_mul_ps(W, dz));
+    // c_j ((g0^2 + g1^2) + g2^2): the scalar sum's order
+    const __m256 g2 = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(gx, gx), _mm256_mul_ps(gy, gy)), _mm256_mul_ps(gz, gz));
+    sq = _mm256_add_ps(sq, _mm256_mul_ps(C, g2));
+  }
+  storeLanes(px, py, pz, plain);
+  _mm256_storeu_ps(S, sq);
+}
+
+void pushCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4* terms, const float* z, Float4* m,
+                        float* y2) {
+  __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, b0 = a0, b1 = a0, b2 = a0, b3 = a0, yz = a0;
+  for (uint32_t r = 0; r < g.rows; ++r) {
+    const LaneRow& row = rows[g.first + r];
+    const __m256 s = _mm256_load_ps(row.slope);
+    __m256 A0, A1, A2, A3, B0, B1, B2, B3;
+    lanesOf<2>(terms, row.idx, A0, A1, A2, A3);
+    lanesOf<2>(terms + 1, row.idx, B0, B1, B2, B3);
+    const __m256 Zj = loadEight(z, row.idx);
+    a0 = _mm256_add_ps(a0, _mm256_mul_ps(s, A0));
+    a1 = _mm256_add_ps(a1, _mm256_mul_ps(s, A1));
+    a2 = _mm256_add_ps(a2, _mm256_mul_ps(s, A2));
+    a3 = _mm256_add_ps(a3, _mm256_mul_ps(s, A3));
+    b0 = _mm256_add_ps(b0, _mm256_mul_ps(s, B0));
+    b1 = _mm256_add_ps(b1, _mm256_mul_ps(s, B1));
+    b2 = _mm256_add_ps(b2, _mm256_mul_ps(s, B2));
+    b3 = _mm256_add_ps(b3, _mm256_mul_ps(s, B3));
+    yz = _mm256_add_ps(yz, _mm256_mul_ps(s, Zj));
+  }
+  alignas(32) float a[8][8];
+  const __m256 all[8] = {a0, a1, a2, a3, b0, b1, b2, b3};
+  for (int q = 0; q < 8; ++q) _mm256_store_ps(a[q], all[q]);
+  for (int l = 0; l < 8; ++l) {
+    m[2 * l] = Float4{a[0][l], a[1][l], a[2][l], a[3][l]};
+    m[2 * l + 1] = Float4{a[4][l], a[5][l], a[6][l], a[7][l]};
+  }
+  _mm256_storeu_ps(y2, yz);
 }
 
 const SweepTable& avx2Table() {

@@ -86,7 +86,7 @@ void factor(const uint32_t* begin, const uint32_t* end, const float* slope, cons
 
 template <class L>
 constexpr SweepTable table(SweepIsa isa, const char* name) {
-  return SweepTable{isa, name, rate<L>, push<L>, factor<L>, L::sift, nullptr, nullptr, nullptr, nullptr};
+  return SweepTable{isa, name, rate<L>, push<L>, factor<L>, L::sift, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr, nullptr};
 }
 
 }  // namespace kurage::sim::solvers::simd

@@ -172,7 +172,7 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
       correctionRows_[3 * i + 2] = Float4{L[4], L[5], L[2], 0.0f};
     });
   }
-  lanes_ = sweeps_.rateLanes && !corrected_;
+  lanes_ = sweeps_.rateLanes != nullptr;
   if (lanes_) laneLists_.build(c.neighbors, n);
   // The walls' part of particle i's F (mirrored wall: see the header)
   const auto wallF = [&](size_t i) {
@@ -197,6 +197,15 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
     const float count = float(c.neighbors.end(i) - c.neighbors.begin(i));
     relax_[i] = kRelaxation * std::min(1.0f, latticeNeighbours_ / std::max(count, 1.0f));
   };
+  // With the corrected gradient: the walls' term keeps the plain gradient (L_i = I within h of a
+  // wall; header); F's neighbour part is L_i sum_j w_j grad W_ij, from the plain sum, which the push
+  // keeps (applyPressure).
+  const auto correctedF = [&](size_t i, Float4 plain) {
+    plain[3] = 0.0f;
+    gradientSum_[i] = plain;
+    const Float4 sum = corrected(i, plain);
+    return Eigen::Vector3f(sum[0], sum[1], sum[2]);
+  };
   if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
     tbb::parallel_for(size_t(0), chunks, [&](size_t ch) {
       const solvers::LaneRow* rows = laneLists_.rows[ch].data();
@@ -204,6 +213,14 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
         const solvers::LaneGroup& g = laneLists_.groups[gi];
         Float4 F[solvers::LaneLists::kWidth] = {};
         float S[solvers::LaneLists::kWidth] = {};
+        if (corrected_) {
+          sweeps_.factorCorrectedLanes(rows, g, position_.data(), response_.data(), correctionRows_.data(), F, S);
+          for (uint32_t l = 0; l < g.used; ++l) {
+            const size_t i = g.self[l];
+            finish(i, wallF(i) + correctedF(i, F[l]), S[l]);
+          }
+          continue;
+        }
         for (uint32_t l = 0; l < g.used; ++l) {
           const Eigen::Vector3f w = wallF(g.self[l]);
           F[l] = Float4{w.x(), w.y(), w.z(), 0.0f};
@@ -228,23 +245,10 @@ void DfsphSolver::afterDensity(const SolverContext& c) {
                        position_[i], F4, S);
         F = Eigen::Vector3f(F4[0], F4[1], F4[2]);
       } else {
-        // The corrected gradient L_i grad W_ij in both sums (header); the walls' term keeps the
-        // plain one (L_i = I within h of a wall).
-        const Float4 x4 = position_[i];
-        Float4 plain = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++slope) {
-          const uint32_t j = *it;
-          const Float4 d = *slope * (x4 - position_[j]);
-          const Float4 grad = corrected(i, d);  // L_i grad W_ij (fourth lane 0)
-          const float w = position_[j][3];
-          plain += w * d;
-          const Float4 g2 = grad * grad;
-          S += response_[j] * (g2[0] + g2[1] + g2[2]);
-        }
-        plain[3] = 0.0f;
-        gradientSum_[i] = plain;  // sum_j w_j grad W_ij, the push's own term (applyPressure)
-        const Float4 sum = corrected(i, plain);
-        F += Eigen::Vector3f(sum[0], sum[1], sum[2]);
+        Float4 plain;
+        solvers::correctedFactorSum(c.neighbors.begin(i), c.neighbors.end(i), slope, position_.data(),
+                                    response_.data(), position_[i], correctionRows_.data() + 3 * i, plain, S);
+        F += correctedF(i, plain);
       }
       finish(i, F, S);
     }
@@ -372,11 +376,22 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
     }
     rate_[i] = rate;  // (2017, eq. 9)
   };
+  // sum_j w_j (v_i - v_j) . L_i grad W_ij = sum_a L_i,a . T_a, T_a = sum_j w_j (v_i - v_j)_a grad W_ij
+  const auto correctedRate = [&](size_t i, const Float4* t) {
+    const Float4 r = correctionRows_[3 * i] * t[0] + correctionRows_[3 * i + 1] * t[1] + correctionRows_[3 * i + 2] * t[2];  // rows . T_a
+    return r[0] + r[1] + r[2];
+  };
   if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
     tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
       const solvers::LaneRow* rows = laneLists_.rows[ch].data();
       for (size_t gi = laneLists_.groupsBegin(ch); gi < laneLists_.groupsEnd(ch); ++gi) {
         const solvers::LaneGroup& g = laneLists_.groups[gi];
+        if (corrected_) {
+          Float4 t[3 * solvers::LaneLists::kWidth];
+          sweeps_.rateCorrectedLanes(rows, g, x, v, t);
+          for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], correctedRate(g.self[l], t + 3 * l));
+          continue;
+        }
         alignas(32) float sums[solvers::LaneLists::kWidth];
         sweeps_.rateLanes(rows, g, x, v, sums);
         for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], sums[l]);
@@ -401,16 +416,9 @@ void DfsphSolver::densityRate(const SolverContext& c, const Float4* v) {
           rate = sweeps_.rate(c.neighbors.begin(i), c.neighbors.end(i), s, x, v, xi, vi);
         }
       } else {
-        // sum_j w_j (v_i - v_j) . L_i grad W_ij = sum_a L_i,a . T_a, T_a = sum_j w_j (v_i - v_j)_a grad W_ij
-        Float4 t0 = {0.0f, 0.0f, 0.0f, 0.0f}, t1 = t0, t2 = t0;
-        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++s) {
-          const Float4 xj = x[*it];
-          const Float4 dv = vi - v[*it];
-          const Float4 e = (xj[3] * *s) * (xi - xj);
-          t0 += dv[0] * e; t1 += dv[1] * e; t2 += dv[2] * e;
-        }
-        const Float4 r = correctionRows_[3 * i] * t0 + correctionRows_[3 * i + 1] * t1 + correctionRows_[3 * i + 2] * t2;  // rows . T_a
-        rate = r[0] + r[1] + r[2];
+        Float4 t[3];
+        solvers::correctedRateSum(c.neighbors.begin(i), c.neighbors.end(i), s, x, v, xi, vi, t);
+        rate = correctedRate(i, t);
       }
       finish(i, rate);
     }
@@ -450,11 +458,27 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
     if (sampled) { reaction_[i] = (bodies->share[i] * scale) * a; return; }  // spread below
     v[i] -= scale * a;  // (2017, eq. 7; header)
   };
+  // The corrected push of particle i from its neighbour sums m0 = (M00, M11, M22, M01),
+  // m1 = (M02, M12, Y0, Y1) and y2 = Y2 (below): M_i x_i - Y_i + k_i L_i sum_j w_j grad W_ij
+  const auto correctedPush = [&](size_t i, Float4 m0, Float4 m1, float y2) {
+    const Float4 xo = x[i] - origin_;
+    Float4 a = Float4{m0[0] * xo[0] + m0[3] * xo[1] + m1[0] * xo[2] - m1[2], m0[3] * xo[0] + m0[1] * xo[1] + m1[1] * xo[2] - m1[3],
+                      m1[0] * xo[0] + m1[1] * xo[1] + m0[2] * xo[2] - y2, 0.0f};
+    a += k[i] * corrected(i, gradientSum_[i]);
+    return a;
+  };
   if (lanes_) {  // eight particles at a time (sweeps.h, the lanes path)
     tbb::parallel_for(size_t(0), c.neighbors.chunkCount(), [&](size_t ch) {
       const solvers::LaneRow* rows = laneLists_.rows[ch].data();
       for (size_t gi = laneLists_.groupsBegin(ch); gi < laneLists_.groupsEnd(ch); ++gi) {
         const solvers::LaneGroup& g = laneLists_.groups[gi];
+        if (corrected_) {
+          Float4 m[2 * solvers::LaneLists::kWidth];
+          alignas(32) float y2[solvers::LaneLists::kWidth];
+          sweeps_.pushCorrectedLanes(rows, g, pushTerms_.data(), pushZ_.data(), m, y2);
+          for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], correctedPush(g.self[l], m[2 * l], m[2 * l + 1], y2[l]));
+          continue;
+        }
         Float4 sums[solvers::LaneLists::kWidth];
         sweeps_.pushLanes(rows, g, x, k, sums);
         for (uint32_t l = 0; l < g.used; ++l) finish(g.self[l], sums[l]);
@@ -479,18 +503,11 @@ void DfsphSolver::applyPressure(const SolverContext& c, const float* k, float sc
         // M_i = sum_j s_ij (w_j k_j L_j) and Y_i = sum_j s_ij (w_j k_j L_j x_j): three packed
         // multiply-adds a neighbour on pushTerms_ (positions from the solver's origin); the own
         // part k_i L_i sum_j w_j grad W_ij from the step's gradient sums.
-        Float4 m0 = {0.0f, 0.0f, 0.0f, 0.0f}, m1 = m0;
-        float y2 = 0.0f;
-        for (const uint32_t* it = c.neighbors.begin(i); it != c.neighbors.end(i); ++it, ++sp) {
-          const Float4* t = pushTerms_.data() + 2 * size_t(*it);
-          const float s = *sp;
-          m0 += s * t[0]; m1 += s * t[1]; y2 += s * pushZ_[*it];
-        }
-        // m0 = (M00, M11, M22, M01), m1 = (M02, M12, Y0, Y1), y2 = Y2
-        const Float4 xo = xi - origin_;
-        a = Float4{m0[0] * xo[0] + m0[3] * xo[1] + m1[0] * xo[2] - m1[2], m0[3] * xo[0] + m0[1] * xo[1] + m1[1] * xo[2] - m1[3],
-                   m1[0] * xo[0] + m1[1] * xo[1] + m0[2] * xo[2] - y2, 0.0f};
-        a += ki * corrected(i, gradientSum_[i]);
+        Float4 m0, m1;
+        float y2;
+        solvers::correctedPushSum(c.neighbors.begin(i), c.neighbors.end(i), sp, pushTerms_.data(), pushZ_.data(), m0,
+                                  m1, y2);
+        a = correctedPush(i, m0, m1, y2);
       }
       finish(i, a);
     }

@@ -34,10 +34,10 @@
 // Units: k in m^5/(kg s^2) ("mass") or Pa ("volume"); the particles' pressure is what both solves
 // applied, p_i = (k_i + q_i / dt_last) rho_i^2 (/ rho0_i^2 with "volume"), Pa. Kernel: the cubic
 // spline, its W'(r)/r per pair from the density pass. The neighbour sums of the rate, the push and
-// the factor (without the gradient correction) are solvers/sweeps.h's: 8 particles at a time where
+// the factor (with the gradient correction too) are solvers/sweeps.h's: 8 particles at a time where
 // the CPU runs AVX2 (the scalar sums' floats; the force pass's viscosity then sums on the same
 // lists, laneLists()), else scalar; 8 or 16 neighbours at a time under
-// KURAGE_SIMD=avx2|avx512. Sums reduce per chunk, then in order: the
+// KURAGE_SIMD=avx2|avx512 (the corrected gradient's sums scalar there). Sums reduce per chunk, then in order: the
 // result does not depend on the thread count. Limits: boundary coupling needs density_sum "volume"
 // and the Jacobi divergence solve; a still tank keeps some unrest at the default tolerances
 // (docs/design/physics.md); a telescopic membrane solved as unknowns tears where it stretches.
@@ -138,7 +138,7 @@ private:
   DivergenceSolve divergenceSolve_;
   const solvers::SweepTable& sweeps_;  // the sweeps' neighbour sums (sweeps.h)
   bool scalarSums_;                    // its sums are the scalar path's: called inline
-  bool lanes_ = false;                 // per step: the sums by sweeps_'s lanes (uncorrected gradient)
+  bool lanes_ = false;                 // per step: the sums by sweeps_'s lanes
   solvers::LaneLists laneLists_;       // their interleaved lists, per step
   // During the solves (positions do not move, velocities are the unknowns' image): per particle
   // (x, y, z, w_j), w_j the density rate's weight (m_j, or m_j / rho0_j for density_sum
