@@ -241,31 +241,20 @@ void factorCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4*
 
 void pushCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4* terms, const float* z, Float4* m,
                         float* y2) {
-  __m256 a0 = _mm256_setzero_ps(), a1 = a0, a2 = a0, a3 = a0, b0 = a0, b1 = a0, b2 = a0, b3 = a0, yz = a0;
+  // Lane l's (m0, m1) in one register, += s_ij times j's two records as they lie (one 256-bit load
+  // each, no transpose: fewer instructions a row than the transposed form)
+  __m256 acc[8];
+  for (__m256& a : acc) a = _mm256_setzero_ps();
+  __m256 yz = _mm256_setzero_ps();
   for (uint32_t r = 0; r < g.rows; ++r) {
     const LaneRow& row = rows[g.first + r];
-    const __m256 s = _mm256_load_ps(row.slope);
-    __m256 A0, A1, A2, A3, B0, B1, B2, B3;
-    lanesOf<2>(terms, row.idx, A0, A1, A2, A3);
-    lanesOf<2>(terms + 1, row.idx, B0, B1, B2, B3);
-    const __m256 Zj = loadEight(z, row.idx);
-    a0 = _mm256_add_ps(a0, _mm256_mul_ps(s, A0));
-    a1 = _mm256_add_ps(a1, _mm256_mul_ps(s, A1));
-    a2 = _mm256_add_ps(a2, _mm256_mul_ps(s, A2));
-    a3 = _mm256_add_ps(a3, _mm256_mul_ps(s, A3));
-    b0 = _mm256_add_ps(b0, _mm256_mul_ps(s, B0));
-    b1 = _mm256_add_ps(b1, _mm256_mul_ps(s, B1));
-    b2 = _mm256_add_ps(b2, _mm256_mul_ps(s, B2));
-    b3 = _mm256_add_ps(b3, _mm256_mul_ps(s, B3));
-    yz = _mm256_add_ps(yz, _mm256_mul_ps(s, Zj));
+    for (int l = 0; l < 8; ++l) {
+      const __m256 t = _mm256_loadu_ps(reinterpret_cast<const float*>(terms + 2 * size_t(row.idx[l])));
+      acc[l] = _mm256_add_ps(acc[l], _mm256_mul_ps(_mm256_broadcast_ss(row.slope + l), t));
+    }
+    yz = _mm256_add_ps(yz, _mm256_mul_ps(_mm256_load_ps(row.slope), loadEight(z, row.idx)));
   }
-  alignas(32) float a[8][8];
-  const __m256 all[8] = {a0, a1, a2, a3, b0, b1, b2, b3};
-  for (int q = 0; q < 8; ++q) _mm256_store_ps(a[q], all[q]);
-  for (int l = 0; l < 8; ++l) {
-    m[2 * l] = Float4{a[0][l], a[1][l], a[2][l], a[3][l]};
-    m[2 * l + 1] = Float4{a[4][l], a[5][l], a[6][l], a[7][l]};
-  }
+  for (int l = 0; l < 8; ++l) _mm256_storeu_ps(reinterpret_cast<float*>(m + 2 * l), acc[l]);
   _mm256_storeu_ps(y2, yz);
 }
 
