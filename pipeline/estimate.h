@@ -46,7 +46,7 @@ struct MachineSpeed {
 // from is in docs/guide/cli.md (`kurage check --estimate`).
 inline constexpr MachineSpeed kDevelopmentMachine{
     "2-core AMD EPYC (AVX-512), 2 threads", 2,
-    1.05e-6,   // the jellyfish, DFSPH, 44,430 particles: 47.0 s for 1,008 steps
+    0.93e-6,   // the jellyfish, DFSPH with the corrected gradient on the lanes path (docs/guide/cli.md)
     1.21e-8,   // `kurage bench surface`: 100,949 particles, radius / voxel 4, 0.078 s
     2.25,      // the anisotropic level set against the isotropic one, 0.27 s / 0.12 s
     7.7e-7,    // whitted, jellyfish: 0.4 s per sample per pixel of a 960x540 frame
