@@ -74,6 +74,16 @@ inline void storeLanes(__m256 a, __m256 b, __m256 c, Float4* out) {
   _mm256_store_ps(pc, c);
   for (int l = 0; l < 8; ++l) out[l] = Float4{pa[l], pb[l], pc[l], 0.0f};
 }
+// A row's grad W_ij = s_ij (x_i - x_j) per axis, and w_j (the records' fourth lane)
+inline void rowGradient(const LaneRow& row, const Float4* x, __m256 Xi, __m256 Yi, __m256 Zi, __m256& gx, __m256& gy,
+                        __m256& gz, __m256& W) {
+  const __m256 s = _mm256_load_ps(row.slope);
+  __m256 X, Y, Z;
+  lanesOf(x, row.idx, X, Y, Z, W);
+  gx = _mm256_mul_ps(s, _mm256_sub_ps(Xi, X));
+  gy = _mm256_mul_ps(s, _mm256_sub_ps(Yi, Y));
+  gz = _mm256_mul_ps(s, _mm256_sub_ps(Zi, Z));
+}
 }  // namespace
 
 namespace detail {
@@ -128,13 +138,9 @@ void factorLanes(const LaneRow* rows, const LaneGroup& g, const Float4* x, const
   __m256 sq = _mm256_loadu_ps(S);
   for (uint32_t r = 0; r < g.rows; ++r) {
     const LaneRow& row = rows[g.first + r];
-    const __m256 s = _mm256_load_ps(row.slope);
-    __m256 X, Y, Z, W;
-    lanesOf(x, row.idx, X, Y, Z, W);
+    __m256 gx, gy, gz, W;
+    rowGradient(row, x, Xi, Yi, Zi, gx, gy, gz, W);
     const __m256 C = loadEight(response, row.idx);
-    const __m256 gx = _mm256_mul_ps(s, _mm256_sub_ps(Xi, X));  // grad W_ij = s_ij (x_i - x_j)
-    const __m256 gy = _mm256_mul_ps(s, _mm256_sub_ps(Yi, Y));
-    const __m256 gz = _mm256_mul_ps(s, _mm256_sub_ps(Zi, Z));
     fx = _mm256_add_ps(fx, _mm256_mul_ps(W, gx));
     fy = _mm256_add_ps(fy, _mm256_mul_ps(W, gy));
     fz = _mm256_add_ps(fz, _mm256_mul_ps(W, gz));
@@ -217,13 +223,9 @@ void factorCorrectedLanes(const LaneRow* rows, const LaneGroup& g, const Float4*
   __m256 px = _mm256_setzero_ps(), py = px, pz = px, sq = px;
   for (uint32_t r = 0; r < g.rows; ++r) {
     const LaneRow& row = rows[g.first + r];
-    const __m256 s = _mm256_load_ps(row.slope);
-    __m256 X, Y, Z, W;
-    lanesOf(x, row.idx, X, Y, Z, W);
+    __m256 dx, dy, dz, W;
+    rowGradient(row, x, Xi, Yi, Zi, dx, dy, dz, W);
     const __m256 C = loadEight(response, row.idx);
-    const __m256 dx = _mm256_mul_ps(s, _mm256_sub_ps(Xi, X));  // grad W_ij = s_ij (x_i - x_j)
-    const __m256 dy = _mm256_mul_ps(s, _mm256_sub_ps(Yi, Y));
-    const __m256 dz = _mm256_mul_ps(s, _mm256_sub_ps(Zi, Z));
     // L_i grad W_ij: row 0 d_x + row 1 d_y + row 2 d_z, added in that order
     const __m256 gx = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(R0x, dx), _mm256_mul_ps(R1x, dy)), _mm256_mul_ps(R2x, dz));
     const __m256 gy = _mm256_add_ps(_mm256_add_ps(_mm256_mul_ps(R0y, dx), _mm256_mul_ps(R1y, dy)), _mm256_mul_ps(R2y, dz));
