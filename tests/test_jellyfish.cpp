@@ -24,6 +24,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <iostream>
 
 using namespace kurage;
 
@@ -58,8 +59,8 @@ struct Trace {
 // the body spacing (a fold); no two segments of an arm that share no particle come within a fifth
 // of its spacing (the arm passing through itself: a knot in the making). The pours: each emits
 // nozzle area x speed x open time within 2 %, the water's own settled rise is its volume over the
-// floor area within 5 % (the right pour's within 25 %, below), the bell drifts away from each faucet, and
-// neither DFSPH solve stops at its iteration cap.
+// floor area within 5 % (both pours), the bell drifts away from each faucet, and neither DFSPH
+// solve stops at its iteration cap.
 TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthThroughThePoursKeepingItsShapeAndUntangledArms) {
   pipeline::Scene scene = jellyfishScene();
   pipeline::applyQuality(scene, pipeline::Quality::Preview);
@@ -170,23 +171,22 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthThroughThePoursKeepingItsShapeAnd
 
   // The pours. The free surface's rise (rise_over_expected) is reported, not held: over the right
   // pour the bell climbs from pulsing hard at 6 m to holding its depth near 14 m with its pulses
-  // faded, and what it takes of the level falls by 0.07-0.1 m (the same scene without faucets: the
-  // level falls 0.10 m from 1.5-3 s to 12-15 s), so the surface reads 0.5-0.65 of the pour. The
-  // water's own level (the level less what the bodies' box holds beyond its water,
-  // pipeline::bodiesDisplacement) rises by 0.80-0.94 of the right pour and 0.97-0.99 of the left
-  // over three trajectories of the scene (docs/notebook/water-volume.md): the right pour's within
-  // 25 %, the left's within 5 %.
+  // faded, and the water it keeps clear round it (its contact layer and the void behind its
+  // reopening margin) shrinks by about 25 m^3, so the surface reads 0.6-0.7 of the pour; the
+  // bell's own volume moves by 0.5 m^3. The water's own level (the level less what the bodies take
+  // of it, pipeline::bodiesDisplacement) rises by 0.97-1.0 of either pour over two trajectories of
+  // the scene (docs/notebook/water-volume.md): held within 5 %.
   const nlohmann::json account = track.pourSummary(s);
   ASSERT_TRUE(account.is_object());
   const nlohmann::json& pours = account.at("pours");
   ASSERT_EQ(pours.size(), size_t(2));
-  const double riseTolerance[2] = {0.25, 0.05};
+  std::cout << "pours: " << account.dump() << "\n";
   for (size_t e = 0; e < pours.size(); ++e) {
     const nlohmann::json& pour = pours[e];
     SCOPED_TRACE("pour " + std::to_string(e) + ": " + pour.dump());
     EXPECT_NEAR(pour.at("emitted_over_nozzle").get<double>(), 1.0, 0.02);
     EXPECT_EQ(pour.at("blocked_positions").get<uint64_t>(), uint64_t(0));
-    EXPECT_NEAR(pour.at("water_rise_over_expected").get<double>(), 1.0, riseTolerance[e]);
+    EXPECT_NEAR(pour.at("water_rise_over_expected").get<double>(), 1.0, 0.05);
     ASSERT_EQ(pour.at("drift").size(), size_t(1));
     EXPECT_TRUE(pour.at("drift")[0].at("away_from_nozzle").get<bool>());
   }

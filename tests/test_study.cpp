@@ -467,29 +467,43 @@ TEST(Measures, HydrostaticTrackReadsTheSlabsAndTheSurface) {
   EXPECT_EQ(rmsSpeed(moving, 1), 0.0);
 }
 
-// What bodies take of the water's level: the box round the body particles (h + l beyond them),
-// less its water's particle volume, over the floor area. A tank 8 x 8 m with 4 m of water on the
-// lattice (l = 0.5 m, h = 1 m) whose eight particles round (4, 4, 2) give way to one body particle:
-// the box [2.5, 5.5)^2 x [0.5, 3.5) lacks their 1 m^3, 1/64 m over the floor.
-TEST(Measures, BodiesDisplacementIsTheBodiesBoxLessItsWater) {
+// What bodies take of the water's level: the volume near the body particles that holds no water,
+// weighted 1 up to l beyond their contact distance and falling to 0 at 2 h. A tank 8 x 8 m (its
+// floor at z = -0.125, so that the cells of l/2 centre on the rows) with 4 m of water on the lattice
+// (l = 0.5 m, h = 1 m, rows at z = 0.25, 0.75, ...) and a sheet of body particles at z = 2 above
+// every cell: the rows at 1.75 and 2.25 that the sheet replaced are the 1 m it lacks, the weights
+// of the rest balancing their cells' (a lattice without a gap reads 0).
+TEST(Measures, BodiesDisplacementIsTheWaterMissingNearTheBodies) {
   sim::SimParams params;
   params.fluid.spacing = 0.5f;
   params.fluid.supportRadius = 2.0f;
-  params.container.min = {0, 0, 0};
+  params.container.min = {0, 0, -0.125f};
   params.container.max = {8, 8, 8};
-  sim::ParticleSet p;
   const float m = params.fluid.restDensity * 0.125f;
-  int64_t id = 0;
-  for (int i = 0; i < 16; ++i)
-    for (int j = 0; j < 16; ++j)
-      for (int k = 0; k < 8; ++k) {
-        const float x = 0.25f + 0.5f * i, y = 0.25f + 0.5f * j, z = 0.25f + 0.5f * k;
-        if (std::fabs(x - 4.0f) < 0.5f && std::fabs(y - 4.0f) < 0.5f && std::fabs(z - 2.0f) < 0.5f) continue;
-        p.add(x, y, z, 0, 0, 0, params.fluid.restDensity, m, id++, 0);
-      }
-  EXPECT_EQ(bodiesDisplacement(params, p, 4.0), 0.0) << "no body";
-  p.add(4.0f, 4.0f, 2.0f, 0, 0, 0, params.fluid.restDensity, m, id++, 1);
-  EXPECT_NEAR(bodiesDisplacement(params, p, 4.0), 1.0 / 64.0, 1e-6);
-  // Up to the level only: at 3 m the box's top 0.5 m, a full layer of water, is left out.
-  EXPECT_NEAR(bodiesDisplacement(params, p, 3.0), 1.0 / 64.0, 1e-6);
+  auto tank = [&](float top, std::vector<int> gaps, bool sheet = true) {
+    sim::ParticleSet p;
+    int64_t id = 0;
+    for (int i = 0; i < 16; ++i)
+      for (int j = 0; j < 16; ++j)
+        for (int k = 0; 0.25f + 0.5f * k < top; ++k)
+          if (std::find(gaps.begin(), gaps.end(), k) == gaps.end())
+            p.add(0.25f + 0.5f * i, 0.25f + 0.5f * j, 0.25f + 0.5f * k, 0, 0, 0, params.fluid.restDensity, m, id++, 0);
+    for (int i = 0; sheet && i < 32; ++i)
+      for (int j = 0; j < 32; ++j)
+        p.add(0.125f + 0.25f * i, 0.125f + 0.25f * j, 2.0f, 0, 0, 0, params.fluid.restDensity, m, id++, 1);
+    return p;
+  };
+  EXPECT_EQ(bodiesDisplacement(params, tank(4.0f, {3, 4}, false), 4.125), 0.0) << "no body";
+  EXPECT_NEAR(bodiesDisplacement(params, tank(4.0f, {}), 4.125), 0.0, 1e-9) << "no gap";
+  EXPECT_NEAR(bodiesDisplacement(params, tank(4.0f, {3, 4}), 4.125), 1.0, 1e-9);
+  // Up to the level only: with 3 m of water the air above it is not missing water (1.33 m if it
+  // were); the level's cell layer is cut in half.
+  EXPECT_NEAR(bodiesDisplacement(params, tank(3.0f, {3, 4}), 3.125), 1.0, 0.1);
+  // The body's fluid contact (0.5 m: collisions.fluid_contact 2 x its spacing 0.25 m) moves the
+  // weights out: with the rows at 0.75 and 3.25 also missing (w 5/6 each; 1/2 without contact).
+  EXPECT_NEAR(bodiesDisplacement(params, tank(4.0f, {1, 3, 4, 6}), 4.125), 1.5, 1e-9);
+  params.bodies.resize(1);
+  params.bodies[0].spacing = 0.5f;
+  params.collisions.fluidContact = 2.0f;
+  EXPECT_NEAR(bodiesDisplacement(params, tank(4.0f, {1, 3, 4, 6}), 4.125), 11.0 / 6.0, 1e-9);
 }

@@ -34,6 +34,7 @@ std::string BodyTrack::saveState() const {
     out.value(r.surface);
     out.value(r.level);
     out.value(r.displaced);
+    out.value(r.volume);
     std::vector<double> centres;
     for (const Eigen::Vector3d& c : r.centres) centres.insert(centres.end(), {c.x(), c.y(), c.z()});
     out.array(centres);
@@ -65,6 +66,7 @@ void BodyTrack::restoreState(const std::string& bytes) {
     r.surface = in.value<double>();
     r.level = in.value<double>();
     r.displaced = in.value<double>();
+    r.volume = in.value<double>();
     std::vector<double> centres;
     in.arrayOf(centres, 3 * bodies);
     for (size_t b = 0; b < bodies; ++b) r.centres.emplace_back(centres[3 * b], centres[3 * b + 1], centres[3 * b + 2]);
@@ -112,6 +114,8 @@ void BodyTrack::record(const sim::Simulation& simulation) {
     row.level = waterLevel(params_, p);
     row.displaced = bodiesDisplacement(params_, p, row.level);
   }
+  for (size_t i = 0; i < p.size(); ++i)
+    if (p.kind[i] != 0) row.volume += double(p.mass[i]) / double(p.restDensity[i]);
   for (size_t b = 0; b < bodies; ++b) {
     row.centres.push_back(mass[b] > 0 ? Eigen::Vector3d(centre[b] / mass[b]) : Eigen::Vector3d::Zero());
     row.factors.push_back(count[b] > 0 ? factor[b] / count[b] : 1.0);
@@ -183,11 +187,12 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     return t - whole >= pulsesFrom - 1e-9 || fit < 1.0 ? whole : fit * period;
   };
   struct Mean {
-    double level, water, from, to;  // the means of the level and of level - displaced; the first and last rows' times
+    double level, water, volume, from, to;  // the means of the level, of level - displaced and of the bodies'
+                                            // own volume; the first and last rows' times
   };
   auto meanLevel = [&](double t) {
     const double w = window(t);
-    double sum = 0.0, water = 0.0;
+    double sum = 0.0, water = 0.0, volume = 0.0;
     int count = 0;
     auto it = rowBefore(t);
     const double to = it->time;
@@ -195,12 +200,14 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
     for (; it->time > t - w + 1e-9; --it) {
       sum += it->level;
       water += it->level - it->displaced;
+      volume += it->volume;
       ++count;
       from = it->time;
       if (it == rows_.begin()) break;
     }
     const Row& only = *rowBefore(t);
-    return count > 0 ? Mean{sum / count, water / count, from, to} : Mean{only.level, only.level - only.displaced, to, to};
+    return count > 0 ? Mean{sum / count, water / count, volume / count, from, to}
+                     : Mean{only.level, only.level - only.displaced, only.volume, to, to};
   };
   const double last = rows_.back().time;
   const sim::ContainerParams& box = params_.container;
@@ -238,6 +245,8 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
                            {"rise_over_expected", expected > 0.0 ? rise / expected : 0.0},
                            {"bodies_displacement_before_m", levelBefore.level - levelBefore.water},
                            {"bodies_displacement_settled_m", levelSettled.level - levelSettled.water},
+                           {"bodies_volume_before_m3", levelBefore.volume},
+                           {"bodies_volume_settled_m3", levelSettled.volume},
                            {"water_rise_m", waterRise},
                            {"water_rise_over_expected", expected > 0.0 ? waterRise / expected : 0.0}};
     const Row& to = *rowBefore(end);
@@ -261,8 +270,8 @@ nlohmann::json BodyTrack::pourSummary(const sim::Simulation& simulation) const {
                    "water's level (the free surface of the colour field over the whole floor), its mean over a window of whole "
                    "pulse periods (at least 3 s; none before the pulses start) before the pour's start and before the last "
                    "frame before the next pour (or the run's end), against the emitted volume over the floor area; the same of "
-                   "the water's own level (the level less what the bodies' box holds beyond its water's particle volume, "
-                   "which a bell's pulses move); "
+                   "the water's own level (the level less the water missing near the bodies, which a bell's pulses move) and "
+                   "the bodies' own volume (sum of m / rho0_i); "
                    "each shell's horizontal drift over the pour"}};
 }
 
@@ -295,7 +304,7 @@ void BodyTrack::write(const fs::path& outDir) const {
   std::ostringstream csv;
   csv << "time_s,fluid_surface_z_m";
   const bool levels = !params_.emitters.empty();
-  if (levels) csv << ",water_level_m,bodies_displacement_m";
+  if (levels) csv << ",water_level_m,bodies_displacement_m,bodies_volume_m3";
   for (const sim::BodyParams& b : params_.bodies)
     csv << "," << b.name << "_x_m," << b.name << "_y_m," << b.name << "_z_m," << b.name << "_depth_m," << b.name
         << "_rest_density_factor";
@@ -308,7 +317,7 @@ void BodyTrack::write(const fs::path& outDir) const {
   csv << "\n";
   for (const Row& r : rows_) {
     csv << r.time << "," << r.surface;
-    if (levels) csv << "," << r.level << "," << r.displaced;
+    if (levels) csv << "," << r.level << "," << r.displaced << "," << r.volume;
     for (size_t b = 0; b < r.centres.size(); ++b)
       csv << "," << r.centres[b].x() << "," << r.centres[b].y() << "," << r.centres[b].z() << ","
           << r.surface - r.centres[b].z() << "," << r.factors[b];

@@ -47,6 +47,7 @@ public:
     double surface = 0.0;
     double level = 0.0;  // the water's level (scenes with emitters; 0 otherwise)
     double displaced = 0.0;  // what the bodies take of it (bodiesDisplacement; scenes with emitters)
+    double volume = 0.0;     // the bodies' own volume, sum of m_i / rho0_i over their particles (m^3)
     std::vector<Eigen::Vector3d> centres;  // per body: its centre of mass (particle-mass weighted)
     std::vector<double> factors;           // per body: mean rest-density factor
     std::vector<double> forces;            // per muscle: as applied in the last step (at t = 0 the curve's)
@@ -80,7 +81,8 @@ public:
   //   is over), against emitted_volume / container floor area (a pour that overlaps another, or
   //   ends too near the next, counts the other's water too); and the same of the water's own level
   //   (the level less what the bodies take of it, bodiesDisplacement): the pour's water, which a
-  //   bell whose pulses fade between the windows does not move;
+  //   bell whose pulses fade between the windows does not move; and the bodies' own volume in each
+  //   window (the mean of Row::volume);
   // - each shell body's horizontal drift over the pour (start to end) and whether it is away from
   //   the nozzle (drift . (centre - nozzle) > 0, horizontally, at the start).
   // Null without emitters or rows.

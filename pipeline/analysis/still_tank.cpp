@@ -92,31 +92,83 @@ double waterLevel(const sim::SimParams& params, const sim::ParticleSet& p) {
                      params.fluid.supportRadiusMetres(), params.fluid.spacing);
 }
 
-double bodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& p, double level) {
+namespace {
+// bodiesDisplacement with the weight 1 up to `full` beyond the contact distance, 0 from `reach`.
+double nearBodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& p, double level, double full, double reach) {
   const sim::ContainerParams& box = params.container;
-  const float reach = params.fluid.supportRadiusMetres() + params.fluid.spacing;
+  // Each body particle's fluid-contact distance as built.
+  std::vector<std::pair<Eigen::Vector3f, float>> contacts;
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
-  bool any = false;
-  for (size_t i = 0; i < p.size(); ++i)
-    if (p.kind[i] != 0) {
-      const Eigen::Vector3f x(p.x[i], p.y[i], p.z[i]);
-      lo = lo.cwiseMin(x);
-      hi = hi.cwiseMax(x);
-      any = true;
-    }
-  if (!any) return 0.0;
-  lo = (lo.array() - reach).max(box.min.array());
-  hi = (hi.array() + reach).min(box.max.array());
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] == 0) continue;
+    const size_t b = size_t(p.kind[i] - 1);
+    const float contact = b < params.bodies.size() ? params.collisions.fluidContact * params.bodies[b].fluidContactScale *
+                                                         params.bodies[b].spacingMetres(params.fluid.spacing)
+                                                   : 0.0f;
+    const float r = contact + float(reach);
+    const Eigen::Vector3f x(p.x[i], p.y[i], p.z[i]);
+    contacts.emplace_back(x, contact);
+    lo = lo.cwiseMin((x.array() - r).matrix());
+    hi = hi.cwiseMax((x.array() + r).matrix());
+  }
+  if (contacts.empty()) return 0.0;
+  lo = lo.cwiseMax(box.min);
+  hi = hi.cwiseMin(box.max);
   hi.z() = std::min(hi.z(), float(double(box.min.z()) + level));
   if ((hi.array() <= lo.array()).any()) return 0.0;
-  double water = 0.0;
-  for (size_t i = 0; i < p.size(); ++i)
-    if (p.kind[i] == 0 && p.x[i] >= lo.x() && p.x[i] < hi.x() && p.y[i] >= lo.y() && p.y[i] < hi.y() &&
-        p.z[i] >= lo.z() && p.z[i] < hi.z())
-      water += double(p.mass[i]) / double(params.fluid.restDensity);
-  const Eigen::Vector3d extent = (hi - lo).cast<double>();
+  // The cells of a grid of l/2 from the container's corner: each one's clearance, the least
+  // distance of its centre beyond a body particle's contact distance (up to `reach`).
+  const float s = 0.5f * params.fluid.spacing;
+  const Eigen::Array3i first = ((lo - box.min).array() / s).floor().cast<int>();
+  const Eigen::Array3i last = ((hi - box.min).array() / s).ceil().cast<int>() - 1;
+  const Eigen::Array3i n = (last - first + 1).max(0);
+  if ((n <= 0).any()) return 0.0;
+  const float far = float(reach);
+  std::vector<float> clearance(size_t(n.x()) * size_t(n.y()) * size_t(n.z()), far);
+  auto cell = [&](int i, int j, int k) {
+    return (size_t(k - first.z()) * size_t(n.y()) + size_t(j - first.y())) * size_t(n.x()) + size_t(i - first.x());
+  };
+  auto centre = [&](int c, int axis) { return box.min[axis] + (float(c) + 0.5f) * s; };
+  for (const auto& [x, contact] : contacts) {
+    const float r = contact + far;
+    const Eigen::Array3i a = (((x.array() - r) - box.min.array()) / s - 0.5f).ceil().cast<int>().max(first);
+    const Eigen::Array3i z = (((x.array() + r) - box.min.array()) / s - 0.5f).floor().cast<int>().min(last);
+    for (int k = a.z(); k <= z.z(); ++k) {
+      const float dz = centre(k, 2) - x.z();
+      for (int j = a.y(); j <= z.y(); ++j) {
+        const float dy = centre(j, 1) - x.y();
+        for (int i = a.x(); i <= z.x(); ++i) {
+          const float dx = centre(i, 0) - x.x(), d2 = dx * dx + dy * dy + dz * dz;
+          float& c = clearance[cell(i, j, k)];
+          if (d2 < (c + contact) * (c + contact)) c = std::sqrt(d2) - contact;
+        }
+      }
+    }
+  }
+  // The weight: 1 up to `full` beyond the contact, falling linearly to 0 at `reach`.
+  const float top = float(double(box.min.z()) + level);
+  auto weight = [&](float c) { return c >= far ? 0.0 : c <= float(full) ? 1.0 : double(far - c) / double(far - float(full)); };
+  double volume = 0.0, water = 0.0;
+  for (int k = first.z(); k <= last.z(); ++k) {
+    if (centre(k, 2) >= top) continue;
+    for (int j = first.y(); j <= last.y(); ++j)
+      for (int i = first.x(); i <= last.x(); ++i) volume += weight(clearance[cell(i, j, k)]);
+  }
+  volume *= double(s) * double(s) * double(s);
+  for (size_t i = 0; i < p.size(); ++i) {
+    if (p.kind[i] != 0) continue;
+    const Eigen::Array3i c = ((Eigen::Array3f(p.x[i], p.y[i], p.z[i]) - box.min.array()) / s).floor().cast<int>();
+    if ((c < first).any() || (c > last).any() || centre(c.z(), 2) >= top) continue;
+    water += weight(clearance[cell(c.x(), c.y(), c.z())]) * double(p.mass[i]) / double(params.fluid.restDensity);
+  }
   const Eigen::Vector3f floor = box.max - box.min;
-  return (extent.x() * extent.y() * extent.z() - water) / (double(floor.x()) * double(floor.y()));
+  return (volume - water) / (double(floor.x()) * double(floor.y()));
+}
+
+}  // namespace
+
+double bodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& p, double level) {
+  return nearBodiesDisplacement(params, p, level, params.fluid.spacing, 2.0 * params.fluid.supportRadiusMetres());
 }
 
 void HydrostaticTrack::record(const sim::ParticleSet& p) {

@@ -95,12 +95,17 @@ private:
 // raises by its volume over the floor area), m above the container's floor.
 double waterLevel(const sim::SimParams& params, const sim::ParticleSet& particles);
 
-// What bodies take of the water's level (ours): the box round every body particle (their extent
-// plus h + l on each side, within the container, up to `level` above its floor), its volume less
-// its fluid particles' volume at rest density (m / rho0 each), over the container's floor area, m.
-// That is the bodies' own volume, their contact gap and the packing of the water in the box, which
-// a body's shape moves (a pulsing bell's mean displacement is larger than the same bell's at rest);
-// waterLevel less this is the level of the water alone. 0 without body particles.
+// What bodies take of the water's level (ours): the volume near the body particles that holds no
+// water, over the container's floor area, m. Near: weighted by the clearance c of a point, its
+// least distance beyond a body particle's fluid-contact distance as built (collisions.fluid_contact
+// x fluid_contact_scale x its body's spacing; 0 without contact), w = 1 for c <= l, falling
+// linearly to 0 at c = 2 h; sampled at the centres of cells of l/2 from the container's corner,
+// within the container and up to `level` above its floor. The result is sum_cells w V_cell less
+// sum_fluid w(its cell) m / rho0, over the floor area: the bodies' own volume, the layer their fluid
+// contact keeps clear and any void their motion leaves in the water (a jellyfish's bell reopening
+// its margin), but not the packing of the water farther out, which the taper (1.5 m in the jellyfish)
+// averages over the layers that water forms next to a wall. waterLevel less this is the level of the water alone.
+// 0 without body particles. Cost: about (2 (c_b + 2 h) / l)^3 cells a body particle.
 double bodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& particles, double level);
 
 }  // namespace kurage::pipeline
