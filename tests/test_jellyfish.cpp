@@ -174,7 +174,7 @@ TEST(Jellyfish, SwimsTenPulsesThenHoldsItsDepthThroughThePoursKeepingItsShapeAnd
   // faded, and the water it keeps clear round it (its contact layer and the void behind its
   // reopening margin) shrinks by about 25 m^3, so the surface reads 0.6-0.7 of the pour; the
   // bell's own volume moves by 0.5 m^3. The water's own level (the level less what the bodies take
-  // of it, pipeline::bodiesDisplacement) rises by 0.97-1.0 of either pour over two trajectories of
+  // of it, pipeline::bodiesDisplacement) rises by 0.97-0.99 of either pour over two trajectories of
   // the scene (docs/notebook/water-volume.md): held within 5 %.
   const nlohmann::json account = track.pourSummary(s);
   ASSERT_TRUE(account.is_object());
