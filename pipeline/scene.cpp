@@ -3,6 +3,7 @@
 #include "pipeline/io/files.h"
 #include "pipeline/io/json_file.h"
 #include "pipeline/scene_params.h"
+#include "render/surfacing.h"
 #include "sim/bodies.h"
 
 #include <Eigen/Geometry>
@@ -263,13 +264,20 @@ void validate(const Scene& scene, const std::string& file) {
   if (!(air.fillMin > air.fillFull)) fail("surface.airborne.fill_min", "must exceed fill_full");
 }
 
-// The 8^3-voxel leaves a metaball field can touch (SceneEstimate::surfaceLeaves).
-double metaballLeaves(const render::MetaballParams& m, const sim::ContainerParams& box, double particles) {
-  const double leaf = 8.0 * double(m.voxelSize), reach = 2.0 * double(m.radius);
+// The 8^3-voxel leaves a metaball field can touch (SceneEstimate::surfaceLeaves): `particles`
+// blobs of radius R and `stretched` ones of up to kMaxRadiusScale R (render::stretchRadiusScales).
+double metaballLeaves(const render::MetaballParams& m, const sim::ContainerParams& box, double particles,
+                      double stretched = 0.0) {
+  const double leaf = 8.0 * double(m.voxelSize);
+  const auto perBlob = [&](double reach) {
+    const double along = std::ceil((reach / double(m.voxelSize) + 1.0) / 8.0) + 1.0;
+    return along * along * along;
+  };
+  const double reach = 2.0 * double(m.radius), stretchedReach = reach * double(render::kMaxRadiusScale);
+  const double widest = stretched > 0.0 ? stretchedReach : reach;
   double overContainer = 1.0;
-  for (int a = 0; a < 3; ++a) overContainer *= std::floor((double(box.max[a]) - box.min[a] + reach) / leaf) + 2.0;
-  const double perBlob = std::ceil((reach / double(m.voxelSize) + 1.0) / 8.0) + 1.0;
-  return std::min(overContainer, particles * perBlob * perBlob * perBlob);
+  for (int a = 0; a < 3; ++a) overContainer *= std::floor((double(box.max[a]) - box.min[a] + widest) / leaf) + 2.0;
+  return std::min(overContainer, particles * perBlob(reach) + stretched * perBlob(stretchedReach));
 }
 
 }  // namespace
@@ -289,6 +297,7 @@ SceneEstimate estimateScene(const Scene& scene) {
     e.gridCells *= std::max(1.0, std::ceil((double(sim.container.max[a]) - sim.container.min[a]) / h));
   e.frames = std::floor(double(scene.output.duration) * scene.output.fps + 1e-6) + 1.0;
   double mostSprings = -1.0;
+  double stretchable = 0.0;  // particles of bodies with telescopic density, whose blobs grow when stretched
   for (size_t b = 0; b < sim.bodies.size(); ++b) {
     const sim::BodyParams& body = sim.bodies[b];
     const double s = body.spacingMetres(sim.fluid.spacing);
@@ -312,6 +321,7 @@ SceneEstimate estimateScene(const Scene& scene) {
     const double reach = double(body.connectionRadius) * sim.fluid.spacing / s;  // h_spr in body spacings
     const double springs = n * std::min(n, 4.0 / 3.0 * M_PI * reach * reach * reach) / 2.0;
     e.bodyParticles += n;
+    if (body.telescopicDensity) stretchable += n;
     e.springs += springs;
     if (springs > mostSprings) {
       mostSprings = springs;
@@ -322,7 +332,8 @@ SceneEstimate estimateScene(const Scene& scene) {
   e.steps = estimateSteps(scene, scene.output.duration);
   const double fluidParticles = sim.emitters.empty() ? e.particles : HUGE_VAL;
   e.surfaceLeaves = metaballLeaves(scene.surface.fluid, sim.container, fluidParticles);
-  if (e.bodyParticles > 0) e.surfaceLeaves += metaballLeaves(scene.surface.bodies, sim.container, e.bodyParticles);
+  if (e.bodyParticles > 0)
+    e.surfaceLeaves += metaballLeaves(scene.surface.bodies, sim.container, e.bodyParticles - stretchable, stretchable);
   e.surfaceBytes = e.surfaceLeaves * kBytesPerSurfaceLeaf;
   e.renderBytes = double(scene.render.settings.width) * scene.render.settings.height * kBytesPerPixel + e.surfaceBytes;
   return e;

@@ -199,6 +199,8 @@ struct SceneEstimate {
   // The surface stage, per frame: the 8^3-voxel leaves of the metaball fields (fluid and bodies)
   // and their memory. An upper bound: the fewer of the leaves over the container grown by the
   // field radius and the leaves each particle's blob can reach (the container's, with an emitter).
+  // A body with telescopic density counts at its blobs' largest radius, kMaxRadiusScale R
+  // (render::stretchRadiusScales: a stretched particle's blob keeps the volume it stands for).
   double surfaceLeaves = 0;
   double surfaceBytes = 0;  // surfaceLeaves x kBytesPerSurfaceLeaf
   // The render stage, per frame: its image buffers, width x height x kBytesPerPixel, and its

@@ -2,6 +2,7 @@
 // step with the parameter structs, and the CLI refusing bad scenes before writing anything.
 #include "pipeline/io/files.h"
 #include "pipeline/scene.h"
+#include "render/surfacing.h"
 #include "test_util.h"
 
 #include <gtest/gtest.h>
@@ -328,4 +329,28 @@ TEST(SceneFile, FixedStepAboveTheStabilityBoundWarnsOrFailsWithStrict) {
   if (code != 0) {
     EXPECT_NE(warn.find("simulation stopped"), std::string::npos) << warn;
   }
+}
+
+// A telescopic body's stretched particles surface with blobs of up to kMaxRadiusScale R
+// (render::stretchRadiusScales), so the surfacing memory bound counts them at that radius: as a
+// conventional body's blobs of radius 2 R, more than at R (a large container, so that the bound
+// is the blobs' and not the container's).
+TEST(SceneEstimate, ATelescopicBodysBlobsAreBudgetedAtTheirLargestRadius) {
+  json scene = baseScene();
+  scene["container"]["max"] = {400, 400, 400};
+  addBox(scene);
+  const auto leaves = [&](bool telescopic, double radiusScale) {
+    json s = scene;
+    s["bodies"][0]["telescopic_density"] = telescopic;
+    const Scene parsed = parseScene(s, "x.json");
+    s["surface"]["bodies"]["radius"] = double(parsed.surface.bodies.radius) * radiusScale;
+    json fluidOnly = s;
+    fluidOnly.erase("bodies");
+    return estimateScene(parseScene(s, "x.json")).surfaceLeaves -
+           estimateScene(parseScene(fluidOnly, "x.json")).surfaceLeaves;
+  };
+  const double conventional = leaves(false, 1.0), telescopic = leaves(true, 1.0);
+  EXPECT_GT(conventional, 0.0);
+  EXPECT_GT(telescopic, 2.0 * conventional);  // equal at R
+  EXPECT_EQ(telescopic, leaves(false, double(render::kMaxRadiusScale)));
 }
