@@ -535,6 +535,11 @@ void describe(V& v, render::WhittedSettings& p) {
           {"", "points per side of the fixed grid on each area light", between(1, 64)});
   v.value("filter_textures", p.filterTextures,
           {"", "box-filter checker textures over the pixel's footprint (ray cones): far checkers average instead of aliasing"});
+  v.value("clamp_secondary", p.clampSecondary,
+          {"", "the most a sample's reflected and refracted rays add to it (each channel, linear; 1 = display "
+               "white): a sun glint seen by one sample in N lightens its pixel by at most 1/N; 0 = no clamp (exact "
+               "HDR). The camera's own view of the sun, sky and lights is never clamped",
+           nonNegative()});
   v.object("adaptive", p.adaptive, {"", "edge-adaptive anti-aliasing: more samples only where neighbours differ"});
 }
 

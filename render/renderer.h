@@ -55,6 +55,10 @@ struct WhittedSettings {
   int lightSamples = 2;    // grid points per side on each area light, >= 1
   // checkers box-filtered over the pixel's ray-cone footprint (integrators/whitted.cpp)
   bool filterTextures = true;
+  // The most a camera sample's secondary rays (the reflected and refracted ones from its first hit,
+  // and all they see) add to it, per channel, linear (1 = the PNG's white); 0 = no clamp.
+  // Bounds a sun glint seen by one sample in S to 1/S of a pixel (integrators/whitted.cpp).
+  float clampSecondary = 1.0f;
   EdgeAdaptiveSettings adaptive;
 };
 

@@ -3,7 +3,8 @@
 // with a bright patch), the whitted integrator (exact Lambert under a sun, a glass slab's
 // Fresnel transmission with its internal reflections, a far ground under a uniform sky exactly
 // its albedo, no dependence on seed or thread count, adaptive anti-aliasing's extra samples only
-// at an edge and not at a filtered checker's),
+// at an edge and not at a filtered checker's, a sun glint in one sample clamped below white while
+// the sun seen by the camera is not),
 // adaptive sampling (no more than min_samples where there is no noise, the asked-for error
 // where there is), and the denoiser (a noise-free checkerboard unchanged, a noisy plain ground's
 // error cut threefold).
@@ -588,6 +589,73 @@ TEST(Whitted, AdaptiveAntiAliasingLeavesFilteredCheckerEdgesAtTheMinimum) {
       EXPECT_GT(refined, settings.width * settings.height / 4);  // about 4 cells' edges a row
     }
   }
+}
+
+// A sun glint: flat water (n = 1.33) seen from straight above under an overhead sun of 0.53
+// degrees, no sky. Only camera rays within 0.265 degrees of the vertical see the sun mirrored, a
+// disc about the middle of the centre pixel (0.67 degrees) that 2 of its 8 samples hit; each one's
+// reflected branch carries F(0) E / Omega, about 600. Clamped, the pixel stays at most
+// clamp_secondary (the mirrored sun is all of a sample's light there); unclamped it saturates.
+// A sun of 5 degrees, mirrored over the whole pixel, still makes it exactly the clamp: white.
+TEST(Whitted, ASunGlintSeenByOneSampleIsClampedBelowWhite) {
+  const kr::TriangleMesh water = box({0, 0, 0}, {50, 50, 1}, Eigen::Matrix3f::Identity());  // z in [-1, 1]
+  kr::RenderScene scene = groundUnderWater(water, 0.0f, 10.0f);
+  scene.sun.angularDiameterDegrees = 0.53f;
+  scene.camera.position = {0.3f, 0.1f, 5};  // the centre's rays off the diagonal edge of the water's top
+  scene.camera.lookAt = {0.3f, 0.1f, 0};
+  kr::RenderSettings settings;
+  settings.integrator = kr::IntegratorType::Whitted;
+  settings.width = 15;
+  settings.height = 15;
+  settings.samplesPerPixel = 8;
+  ASSERT_EQ(settings.whitted.clampSecondary, 1.0f);  // the default
+  settings.whitted.clampSecondary = 0.0f;
+  const kr::Image glint = kr::renderFrame(scene, settings);
+  ASSERT_GT(glint.at(7, 7).head<3>().minCoeff(), 50.0f) << "the glint is there unclamped";
+  settings.whitted.clampSecondary = 1.0f;
+  const kr::Image clamped = kr::renderFrame(scene, settings);
+  for (int y = 0; y < 15; ++y)
+    for (int x = 0; x < 15; ++x) {
+      EXPECT_LE(clamped.at(x, y).head<3>().maxCoeff(), 1.0f + 1e-6f) << x << "," << y;
+      if (x != 7 || y != 7) {
+        EXPECT_TRUE(clamped.at(x, y) == glint.at(x, y)) << x << "," << y << ": below the clamp";
+      }
+    }
+  EXPECT_GT(clamped.at(7, 7).x(), clamped.at(6, 7).x()) << "still brighter than its neighbours";
+  scene.sun.angularDiameterDegrees = 5.0f;
+  const kr::Image wide = kr::renderFrame(scene, settings);
+  EXPECT_NEAR(wide.at(7, 7).x(), 1.0f, 1e-6f);
+  EXPECT_NEAR(wide.at(7, 7).z(), 1.0f, 1e-6f);
+}
+
+// The camera's own view of the sun's disc is direct light: the same with and without the clamp,
+// E / Omega (Omega = 2 pi (1 - cos(0.265 degrees))).
+TEST(Whitted, TheSunSeenByTheCameraIsNotClamped) {
+  kr::RenderScene scene;
+  scene.environment.type = kr::EnvironmentType::Uniform;
+  scene.environment.zenith = Vector3f::Zero();
+  scene.ground.enabled = false;
+  scene.sun.direction = {0, 0, -1};
+  scene.sun.irradiance = {2.6f, 2.5f, 2.3f};
+  scene.sun.angularDiameterDegrees = 0.53f;
+  scene.camera.position = {0, 0, 0};
+  scene.camera.lookAt = {0, 0, 1};
+  scene.camera.up = {0, 1, 0};
+  scene.camera.verticalFovDegrees = 0.2f;
+  kr::RenderSettings settings;
+  settings.integrator = kr::IntegratorType::Whitted;
+  settings.width = 5;
+  settings.height = 5;
+  settings.samplesPerPixel = 4;
+  const kr::Image clamped = kr::renderFrame(scene, settings);
+  settings.whitted.clampSecondary = 0.0f;
+  const kr::Image exact = kr::renderFrame(scene, settings);
+  const double omega = 2.0 * std::numbers::pi * (1.0 - std::cos(0.265 * std::numbers::pi / 180.0));
+  for (int y = 0; y < 5; ++y)
+    for (int x = 0; x < 5; ++x) {
+      EXPECT_TRUE(clamped.at(x, y) == exact.at(x, y)) << x << "," << y;
+      EXPECT_NEAR(clamped.at(x, y).x(), 2.6 / omega, 1e-2 * 2.6 / omega) << x << "," << y;  // float's 1 - cos
+    }
 }
 
 TEST(Adaptive, TakesMinSamplesWithoutNoiseAndReachesTheErrorWithIt) {

@@ -18,6 +18,16 @@
 // bodies are shaded as diffuse with albedo tint^2 (1 - F) (light scattered in and out once) plus
 // the Fresnel reflection. No indirect diffuse light, no caustics.
 //
+// Secondary light is clamped (clampSecondary = c > 0): what the rays leaving a camera ray's first
+// hit add to a sample (depth >= 1: reflections, refractions and all they see) is clamped to c in
+// each channel before the pixel's mean, in the manner of Cycles' "clamp indirect" (per channel, not
+// scaled: at c = 1 a region overexposed in every sample shows as before, the PNG clamps alike).
+// The sun's disc seen along one sample's mirror branch (radiance E / Omega, about 4e4 for 0.53
+// degrees) then lightens a pixel of S samples by at most c / S instead of saturating it, and a
+// glint that covers the pixel still reaches c. The camera's own rays (the sun, sky, lights and
+// the first hit's direct light) are never clamped. Biased: a sample's secondary light above c is
+// lost, in every output (the EXR too).
+//
 // Textures (filterTextures): every ray carries a cone (Amanatides 1984, "Ray tracing with cones";
 // Akenine-Moller et al. 2021, JCGT 10(1)): width w = w0 + spread t, starting at the pinhole with
 // w0 = 0 and spread = p cos^1.5(theta), p = 2 tan(fov/2) / height the angle of a pixel on the
@@ -58,6 +68,9 @@ using Eigen::Vector3f;
 constexpr float kInfinity = std::numeric_limits<float>::infinity();
 constexpr float kWhittedCutoff = 1e-3f;  // branches whose weight falls below this are dropped
 const Material kGroundMaterial{};
+
+// v with every channel at most `most` (0: v as it is).
+Vector3f clampedTo(const Vector3f& v, float most) { return most > 0.0f ? Vector3f(v.cwiseMin(most)) : v; }
 
 class WhittedIntegrator final : public Integrator {
 public:
@@ -231,7 +244,7 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
   const bool filtered = cone.spread > 0.0f;
   const Vector3f albedo = filtered ? f.filteredAlbedo(hit, direction, width) : hit.albedo;
   const Vector3f edgeAlbedo = !sample.edges ? Vector3f::Zero() : filtered ? f.meanAlbedo(hit) : albedo;
-  Traced radiance;
+  Traced radiance, secondary;  // secondary: what the rays leaving a camera ray's hit add, clamped
   const auto follow = [&](const ScatterSample& s, const Vector3f& factor) {
     const float branch = weight * factor.maxCoeff();
     if (!(branch >= kWhittedCutoff)) return;
@@ -243,8 +256,9 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
       next.spread *= entering ? 1.0f / material.ior : material.ior;
     }
     const Traced t = trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, next, sample, counters, nullptr);
-    radiance.value += factor.cwiseProduct(t.value);
-    if (sample.edges) radiance.edge += factor.cwiseProduct(t.edge);
+    Traced& to = depth == 0 ? secondary : radiance;
+    to.value += factor.cwiseProduct(t.value);
+    if (sample.edges) to.edge += factor.cwiseProduct(t.edge);
   };
   // Fresnel reflectance for wo at this interface (as materials.cpp's facing frame computes it).
   const auto fresnel = [&] {
@@ -282,6 +296,11 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
       if (sample.edges) radiance.edge += edgeAlbedo.cwiseProduct(edgeAlbedo).cwiseProduct(light);
       break;
     }
+  }
+  if (depth == 0) {
+    const float most = settings_.whitted.clampSecondary;
+    radiance.value += clampedTo(secondary.value, most);
+    radiance.edge += clampedTo(secondary.edge, most);
   }
   if (!sample.edges) return {attenuation.cwiseProduct(radiance.value), Vector3f::Zero()};
   return {attenuation.cwiseProduct(radiance.value), attenuation.cwiseProduct(radiance.edge)};
