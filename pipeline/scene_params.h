@@ -528,6 +528,18 @@ void describe(V& v, render::EdgeAdaptiveSettings& p) {
 }
 
 template <class V>
+void describe(V& v, render::SkyFilterSettings& p) {
+  v.value("enabled", p.enabled,
+          {"", "interleave the sky directions over tile x tile pixels and average the sky's irradiance over the tile "
+               "where neighbours show the same surface (the sun and reflections are not filtered)"});
+  v.value("tile", p.tile, {"", "pixels per side of the interleaving tile and the filter's window", between(2, 16)});
+  v.value("normal_cosine", p.normalCosine,
+          {"", "least cosine between a pixel's and a neighbour's normals for the neighbour to count", between(-0.999, 1.0)});
+  v.value("depth_tolerance", p.depthTolerance,
+          {"", "largest relative difference of path length to the surface for a neighbour to count", positive()});
+}
+
+template <class V>
 void describe(V& v, render::WhittedSettings& p) {
   v.value("sky_directions", p.skyDirections,
           {"", "shadow rays towards the sky per diffuse point (fixed cosine-distributed directions)", between(1, 1024)});
@@ -541,6 +553,7 @@ void describe(V& v, render::WhittedSettings& p) {
                "HDR). The camera's own view of the sun, sky and lights is never clamped",
            nonNegative()});
   v.object("adaptive", p.adaptive, {"", "edge-adaptive anti-aliasing: more samples only where neighbours differ"});
+  v.object("sky_filter", p.skyFilter, {"", "interleaved sky directions, filtered across neighbouring pixels"});
 }
 
 template <class V>

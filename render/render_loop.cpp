@@ -2,6 +2,7 @@
 #include "render/render_loop.h"
 
 #include "render/sampling.h"
+#include "render/sky_filter.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -22,6 +23,10 @@ constexpr int kTileSize = 16;
 struct PixelSums {
   Vector3f sum = Vector3f::Zero(), albedo = Vector3f::Zero(), normal = Vector3f::Zero(), sun = Vector3f::Zero();
   Vector3f edge = Vector3f::Zero();  // PathFeatures::edge, summed
+  Vector3f sky = Vector3f::Zero(), skyWeight = Vector3f::Zero();  // PathFeatures' sky terms, summed
+  float depth = 0.0f;
+  uint32_t objectId = kObjectSky;  // the samples' primary object; kObjectSky where none or several
+  bool firstObject = true;
   int covered = 0;  // samples whose camera ray met something
   int n = 0;
   double lumSum = 0.0, lumSquares = 0.0;
@@ -51,6 +56,8 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
   }
   const auto seed = static_cast<uint32_t>(settings.seed);
   const bool transparent = settings.transparentBackground;
+  const bool skyFilter = settings.whitted.skyFilter.enabled && !integrator.noisy();
+  SkyBuffers sky = skyFilter ? SkyBuffers(width, height) : SkyBuffers();
 
   // Samples first .. last - 1 of pixel (x, y), of a sequence of `length` (0: open-ended), added to
   // `p`; with `edges`, their PathFeatures too (whatever `features` says).
@@ -66,13 +73,22 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
       ++counters.primary;
       bool hitSomething = false;
       PathFeatures pf;
-      const Vector3f value =
-          integrator.radiance(origin, direction, s, length, rng, counters, hitSomething, features || edges ? &pf : nullptr);
+      pf.wantEdge = edges;
+      const Vector3f value = integrator.radiance(origin, direction, pixel, s, length, rng, counters, hitSomething,
+                                                 features || edges || skyFilter ? &pf : nullptr);
       p.sum += value;
       p.albedo += pf.albedo;
       p.normal += pf.normal;
       p.sun += pf.sun;
       p.edge += pf.edge;
+      if (skyFilter) {
+        p.sky += pf.sky;
+        p.skyWeight += pf.skyWeight;
+        p.depth += pf.depth;
+        if (p.firstObject) p.objectId = pf.objectId;
+        else if (pf.objectId != p.objectId) p.objectId = kObjectSky;
+        p.firstObject = false;
+      }
       p.covered += hitSomething ? 1 : 0;
       const double lum = 0.2126 * value.x() + 0.7152 * value.y() + 0.0722 * value.z();
       p.lumSum += lum;
@@ -92,6 +108,17 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
       // normalised as the pixel's colour is, of which it is a part
       const int parts = transparent ? p.covered : n;
       features->sun[i] = parts > 0 ? Vector3f(p.sun / float(parts)) : Vector3f::Zero();
+    }
+    if (skyFilter) {
+      const size_t i = size_t(y) * size_t(width) + size_t(x);
+      const int parts = transparent ? p.covered : n;
+      if (parts > 0) {
+        sky.sky[i] = p.sky / float(parts);
+        sky.weight[i] = p.skyWeight / float(parts);
+      }
+      sky.normal[i] = p.normal / float(n);
+      sky.depth[i] = p.depth / float(n);
+      sky.objectId[i] = parts > 0 ? p.objectId : kObjectSky;
     }
     Eigen::Vector4f value(0, 0, 0, 1);
     if (transparent) {
@@ -176,6 +203,7 @@ Image renderImage(const CameraRays& camera, const Integrator& integrator,
       finish(x, y, p);
     });
   }
+  if (skyFilter) filterSky(sky, settings.whitted.skyFilter, image);
   totals.primary += primaryRays;
   totals.total += totalRays;
   totals.samples += samples;

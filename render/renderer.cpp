@@ -26,6 +26,9 @@ void checkSettings(const RenderScene& scene, const RenderSettings& settings) {
     throw std::invalid_argument("render: whitted skyDirections and lightSamples must be >= 1");
   if (!(settings.whitted.adaptive.threshold > 0.0f) || settings.whitted.adaptive.minSamples < 1)
     throw std::invalid_argument("render: whitted adaptive anti-aliasing needs threshold > 0 and minSamples >= 1");
+  const SkyFilterSettings& sky = settings.whitted.skyFilter;
+  if (sky.enabled && !(sky.tile >= 2 && sky.normalCosine > -1.0f && sky.normalCosine <= 1.0f && sky.depthTolerance > 0.0f))
+    throw std::invalid_argument("render: whitted sky filter needs tile >= 2, normalCosine in (-1, 1], depthTolerance > 0");
   if (settings.adaptive.enabled &&
       !(settings.adaptive.relativeError > 0.0f && settings.adaptive.minSamples >= 2 &&
         settings.adaptive.maxSamples >= settings.adaptive.minSamples))

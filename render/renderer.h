@@ -50,6 +50,21 @@ struct EdgeAdaptiveSettings {
   int minSamples = 2;       // >= 1
 };
 
+// Interleaved sky directions and their cross-bilateral filter (whitted; integrators/whitted.cpp,
+// sky_filter.h): the pixel at (x mod tile, y mod tile) = (a, b) turns its sky directions by its own
+// offset of a tile x tile lattice (Keller & Heidrich 2001, "Interleaved sampling"), and the sky's
+// share of each pixel's radiance, divided by its albedo and throughput (an irradiance), is averaged
+// over the tile x tile pixels around it that show the same object with a normal within
+// acos(normalCosine) and a depth within depthTolerance of the pixel's own (relative), so a pixel on
+// a smooth surface sees tile^2 times its own sky directions. The sun, area lights and specular
+// branches are not filtered. Off by default.
+struct SkyFilterSettings {
+  bool enabled = false;
+  int tile = 4;                 // >= 2
+  float normalCosine = 0.9f;    // in (-1, 1]
+  float depthTolerance = 0.05f;  // > 0
+};
+
 struct WhittedSettings {
   int skyDirections = 16;  // shadow rays towards the sky per diffuse point, >= 1
   int lightSamples = 2;    // grid points per side on each area light, >= 1
@@ -60,6 +75,7 @@ struct WhittedSettings {
   // Bounds a sun glint seen by one sample in S to 1/S of a pixel (integrators/whitted.cpp).
   float clampSecondary = 1.0f;
   EdgeAdaptiveSettings adaptive;
+  SkyFilterSettings skyFilter;
 };
 
 // Adaptive sampling (noisy integrators: path): every pixel takes minSamples paths, then more in

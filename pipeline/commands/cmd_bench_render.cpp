@@ -112,7 +112,21 @@ std::vector<BenchRow> rmseRows() {
                         s.whitted.skyDirections = sky;
                         s.whitted.filterTextures = filter;
                         s.whitted.adaptive.enabled = false;
+                        s.whitted.skyFilter.enabled = false;
                       }});
+  for (const auto& [spp, sky, tile] : {std::tuple{2, 4, 4}, std::tuple{3, 4, 4}, std::tuple{4, 4, 4}, std::tuple{3, 2, 4},
+                                       std::tuple{4, 2, 4}, std::tuple{4, 4, 3}, std::tuple{4, 2, 3}, std::tuple{6, 2, 4},
+                                       std::tuple{4, 1, 4}, std::tuple{4, 2, 5}})
+    rows.push_back({"whitted, sky filter " + std::to_string(tile) + "x" + std::to_string(tile) + ", " +
+                        std::to_string(spp) + " spp, " + std::to_string(sky) + " sky rays",
+                    [spp, sky, tile](S& s) {
+                      s.integrator = render::IntegratorType::Whitted;
+                      s.samplesPerPixel = spp;
+                      s.whitted.skyDirections = sky;
+                      s.whitted.adaptive.enabled = false;
+                      s.whitted.skyFilter.enabled = true;
+                      s.whitted.skyFilter.tile = tile;
+                    }});
   for (const auto& [threshold, lo, hi] : {std::tuple{0.02f, 1, 16}, std::tuple{0.04f, 1, 16}, std::tuple{0.02f, 2, 16},
                                           std::tuple{0.04f, 2, 16}, std::tuple{0.08f, 2, 16}, std::tuple{0.02f, 2, 8},
                                           std::tuple{0.04f, 2, 32}, std::tuple{0.01f, 2, 16}, std::tuple{0.01f, 4, 16},
@@ -124,6 +138,7 @@ std::vector<BenchRow> rmseRows() {
                       s.samplesPerPixel = hi;
                       s.whitted.skyDirections = 4;
                       s.whitted.adaptive = {true, threshold, lo};
+                      s.whitted.skyFilter.enabled = false;
                     }});
   return rows;
 }
@@ -208,6 +223,7 @@ int benchRmse(const BenchFrame& frame, int threads, int referenceSpp, const std:
     whittedScene.render.settings.whitted = whitted;
     whittedScene.render.settings.samplesPerPixel = 64;
     whittedScene.render.settings.whitted.adaptive.enabled = false;
+    whittedScene.render.settings.whitted.skyFilter.enabled = false;
     return whittedReferences.emplace(key, frame.render(whittedScene, nullptr)).first->second;
   };
   const render::RenderSettings& base = frame.scene.render.settings;

@@ -39,11 +39,22 @@ struct CameraSample {
 // direct light there times that throughput (its share of the path's radiance). `edge`: what
 // edge-adaptive anti-aliasing compares between neighbours (render_loop.h), set by integrators
 // without noise (whitted: the radiance with filtered checkers at their mean colour).
+// Whitted's sky filter (SkyFilterSettings, renderer.h): at the path's primary diffuse vertex (the
+// first diffuse or translucent one along the heavier branch of each split), `sky` is its sky
+// light's share of the radiance, `skyWeight` what that vertex's sky irradiance estimate is
+// multiplied by to give it (throughput times albedo), `depth` the path's length to it (metres),
+// `objectId` its object (kObjectSky: none), and `normal` its shading normal facing the path.
+// Inputs: `wantEdge`, whether `edge` is asked for.
 struct PathFeatures {
   Eigen::Vector3f albedo = Eigen::Vector3f::Zero();
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();
   Eigen::Vector3f sun = Eigen::Vector3f::Zero();
   Eigen::Vector3f edge = Eigen::Vector3f::Zero();
+  Eigen::Vector3f sky = Eigen::Vector3f::Zero();
+  Eigen::Vector3f skyWeight = Eigen::Vector3f::Zero();
+  float depth = 0.0f;
+  uint32_t objectId = kObjectSky;
+  bool wantEdge = false;
 };
 
 class Integrator {
@@ -59,10 +70,11 @@ public:
   virtual CameraSample cameraSample(uint32_t pixel, int s, int n, PixelSampler& rng) const = 0;
 
   // Radiance (linear RGB) arriving at the camera along the ray origin + t direction (unit) of
-  // camera sample s of n (as for cameraSample). `hitSomething`: whether the ray met geometry, ground or a light (the pixel's
+  // camera sample s of n (as for cameraSample) of pixel `pixel` (y * width + x). `hitSomething`: whether the ray met geometry, ground or a light (the pixel's
   // coverage). `features`, when given, receives the path's denoiser features (noisy integrators
   // only). Thread-safe.
-  virtual Eigen::Vector3f radiance(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, int s, int n,
+  virtual Eigen::Vector3f radiance(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, uint32_t pixel,
+                                   int s, int n,
                                    PixelSampler& rng, RayCounters& counters, bool& hitSomething,
                                    PathFeatures* features) const = 0;
 };

@@ -52,7 +52,7 @@ public:
     return sample;
   }
 
-  Vector3f radiance(const Vector3f& origin, const Vector3f& direction, int, int, PixelSampler& rng, RayCounters& counters,
+  Vector3f radiance(const Vector3f& origin, const Vector3f& direction, uint32_t, int, int, PixelSampler& rng, RayCounters& counters,
                     bool& hitSomething, PathFeatures* features) const override {
     return trace(origin, direction, rng, counters, hitSomething, features, 0);
   }

@@ -14,7 +14,16 @@
 // s + S, ... of one Hammersley set of skyDirections x S points, the same at every pixel, so the
 // pixel averages skyDirections x S directions and the sky's shadows are not skyDirections hard
 // copies. S is samplesPerPixel, or, for the first pass of edge-adaptive anti-aliasing
-// (renderer.h), its minSamples: each count has its own set. Shadow rays follow RenderSettings::transmissiveShadows. Translucent
+// (renderer.h), its minSamples: each count has its own set. With the sky filter
+// (SkyFilterSettings, renderer.h) the pixel at (x mod N, y mod N) = (a, b) of a tile of N x N turns
+// the set by (du, dv) = (((c + 1/2) / N - 1/2) / P, (b + c / N) / N), c = (a + b) mod N (mod 1 in v;
+// P the set's size): each of the set's P strata in the first coordinate is split in N, each part
+// holding N points evenly spaced in the second, so the tile's N^2 sets together are one stratified
+// set of N^2 P points while each pixel keeps a stratified set of its own (interleaved sampling,
+// Keller & Heidrich 2001); every row and column of the tile holds each part c once (a Latin
+// square), so a window cut at an edge still sees every elevation band equally. The sky
+// term of the primary diffuse vertex is then returned apart (PathFeatures::sky) for the render
+// loop's filter. Shadow rays follow RenderSettings::transmissiveShadows. Translucent
 // bodies are shaded as diffuse with albedo tint^2 (1 - F) (light scattered in and out once) plus
 // the Fresnel reflection. No indirect diffuse light, no caustics.
 //
@@ -82,6 +91,7 @@ public:
                       ? 2.0f * std::tan(0.5f * camera.verticalFovDegrees * std::numbers::pi_v<float> / 180.0f) /
                             float(std::max(1, settings.height))
                       : 0.0f;
+    if (settings.whitted.skyFilter.enabled) tile_ = std::max(1, settings.whitted.skyFilter.tile);
     addSkySet(std::max(1, settings.samplesPerPixel));
     const EdgeAdaptiveSettings& adaptive = settings.whitted.adaptive;
     if (adaptive.enabled && adaptive.minSamples < settings.samplesPerPixel) addSkySet(adaptive.minSamples);
@@ -96,16 +106,23 @@ public:
     return {{sx, sy}, {sy, sx}};
   }
 
-  Vector3f radiance(const Vector3f& origin, const Vector3f& direction, int s, int n, PixelSampler&,
+  Vector3f radiance(const Vector3f& origin, const Vector3f& direction, uint32_t pixel, int s, int n, PixelSampler&,
                     RayCounters& counters, bool& hitSomething, PathFeatures* features) const override {
     const float cosine = std::max(0.0f, forward_.dot(direction));
     const Cone cone{0.0f, pixelAngle_ * cosine * std::sqrt(cosine)};
     const SkySet* sky = &skySets_.front();
     for (const SkySet& set : skySets_)
       if (set.samples == n) sky = &set;
-    const Traced traced =
-        trace(origin, direction, 0, Vector3f::Zero(), 1.0f, cone, {s, sky, features != nullptr}, counters, &hitSomething);
-    if (features) features->edge = traced.edge;
+    size_t turn = 0;
+    if (tile_ > 1) {
+      const uint32_t width = uint32_t(std::max(1, settings_.width));
+      turn = size_t((pixel % width) % uint32_t(tile_)) * size_t(tile_) + size_t((pixel / width) % uint32_t(tile_));
+    }
+    const bool edges = features && features->wantEdge;
+    const Sample sample{s, &sky->local[turn], sky->samples, edges, tile_ > 1 ? features : nullptr};
+    const Traced traced = trace(origin, direction, 0, Vector3f::Zero(), {1.0f, Vector3f::Ones(), 0.0f, true}, cone,
+                                sample, counters, &hitSomething);
+    if (edges) features->edge = traced.edge;
     return traced.value;
   }
 
@@ -116,10 +133,24 @@ private:
   };
   // Fixed points warped to sky directions in the normal's frame (cosineHemisphereLocal),
   // skyDirections x samples of them (one Hammersley set, shifted half a stratum off the pole); sample
-  // s of `samples` takes points s, s + samples, ...
+  // s of `samples` takes points s, s + samples, ... local[a N + b]: the set turned for the pixel at
+  // (a, b) of the sky filter's tile (one set without the filter).
   struct SkySet {
     int samples = 1;
-    std::vector<Vector3f> local;
+    std::vector<std::vector<Vector3f>> local;
+  };
+  // Where a branch stands: its weight (the product of its Fresnel and mirror factors, for the
+  // cutoff), its throughput from the camera (factors and absorption), its length so far, and whether
+  // it is the primary branch (the heavier one at each split).
+  struct Branch {
+    float weight = 1.0f;
+    Vector3f throughput = Vector3f::Ones();
+    float distance = 0.0f;
+    bool primary = true;
+  };
+  // A diffuse point's direct light of albedo 1: the sun and area lights, and the sky.
+  struct Direct {
+    Vector3f lights = Vector3f::Zero(), sky = Vector3f::Zero();
   };
   // A ray's radiance, and the same with every checker's albedo replaced by the mean of its two
   // colours where textures are filtered (what edge-adaptive anti-aliasing compares: the cone
@@ -127,29 +158,41 @@ private:
   struct Traced {
     Vector3f value = Vector3f::Zero(), edge = Vector3f::Zero();
   };
-  // The camera sample a ray belongs to: its index, its count's sky set, and whether its edge value
-  // is wanted (Traced::edge stays 0 otherwise).
+  // The camera sample a ray belongs to: its index, its pixel's sky set (of the sample count
+  // `samples`), whether its edge value is wanted (Traced::edge stays 0 otherwise), and where the
+  // primary diffuse vertex's sky term goes (null: nowhere).
   struct Sample {
     int index = 0;
-    const SkySet* sky = nullptr;
+    const std::vector<Vector3f>* sky = nullptr;
+    int samples = 1;
     bool edges = false;
+    PathFeatures* primary = nullptr;
   };
   void addSkySet(int samples) {
     SkySet set{samples, {}};
     const int points = settings_.whitted.skyDirections * samples;
-    for (int k = 0; k < points; ++k) {
-      float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points);
-      v -= std::floor(v);
-      set.local.push_back(cosineHemisphereLocal((float(k) + 0.5f) / float(points), v));
-    }
+    const float n = float(tile_);
+    for (int a = 0; a < tile_; ++a)
+      for (int b = 0; b < tile_; ++b) {
+        const int c = (a + b) % tile_;
+        const float du = ((float(c) + 0.5f) / n - 0.5f) / float(points), dv = (float(b) + float(c) / n) / n;
+        std::vector<Vector3f>& local = set.local.emplace_back();
+        for (int k = 0; k < points; ++k) {
+          float v = radicalInverse2(uint32_t(k)) + 0.5f / float(points) + dv;
+          v -= std::floor(v);
+          local.push_back(cosineHemisphereLocal((float(k) + 0.5f) / float(points) + du, v));
+        }
+      }
     skySets_.push_back(std::move(set));
   }
-  Vector3f direct(const Hit& hit, const Vector3f& wo, const Sample& sample, RayCounters& counters) const;
+  Direct direct(const Hit& hit, const Vector3f& wo, const Sample& sample, RayCounters& counters) const;
   Traced trace(const Vector3f& origin, const Vector3f& direction, int depth, const Vector3f& absorption,
-                 float weight, const Cone& cone, const Sample& sample, RayCounters& counters, bool* hitSomething) const;
+               const Branch& branch, const Cone& cone, const Sample& sample, RayCounters& counters,
+               bool* hitSomething) const;
 
   const FrameScene& f_;
   const RenderSettings& settings_;
+  int tile_ = 1;                 // the sky filter's tile (1: no filter)
   std::vector<SkySet> skySets_;  // for samplesPerPixel, then for the adaptive first pass
   Vector3f forward_;         // the camera's viewing direction, unit
   float pixelAngle_ = 0.0f;  // a pixel's cone spread on the axis, radians (0: no filtering)
@@ -160,8 +203,8 @@ private:
 // direction, each area light at the centres of an n x n grid, the sky along the fixed
 // cosine-distributed directions about the shading normal that belong to the pixel's sample
 // `sample` (its SkySet), turned to wo's side.
-Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& wo, const Sample& sample,
-                                   RayCounters& counters) const {
+WhittedIntegrator::Direct WhittedIntegrator::direct(const Hit& hit, const Vector3f& wo, const Sample& sample,
+                                                   RayCounters& counters) const {
   const FrameScene& f = f_;
   const bool outside = wo.dot(hit.ng) >= 0.0f;
   const Vector3f g = outside ? hit.ng : Vector3f(-hit.ng);
@@ -200,8 +243,8 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& wo, const Sam
       }
   }
   Vector3f sky = Vector3f::Zero();
-  const std::vector<Vector3f>& set = sample.sky->local;
-  const int samples = sample.sky->samples;
+  const std::vector<Vector3f>& set = *sample.sky;
+  const int samples = sample.samples;
   Vector3f t, b;
   orthonormalBasis(n, t, b);
   for (size_t k = size_t(sample.index % samples); k < set.size(); k += size_t(samples)) {
@@ -211,14 +254,13 @@ Vector3f WhittedIntegrator::direct(const Hit& hit, const Vector3f& wo, const Sam
     if (f.groundBlocks(from, wi)) continue;
     sky += environmentRadiance(f.input.environment, wi).cwiseProduct(f.transmittance(from, wi, kInfinity, counters));
   }
-  if (!set.empty()) sum += sky * (float(samples) / float(set.size()));
-  return sum;
+  if (!set.empty()) sky *= float(samples) / float(set.size());
+  return {sum, sky};
 }
 
-// Radiance along a ray; `weight` is the product of the Fresnel and mirror factors so far (for the
-// cutoff), `absorption` the medium's coefficient (0: air).
+// Radiance along a ray of the branch `branch`; `absorption` is the medium's coefficient (0: air).
 WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const Vector3f& direction, int depth,
-                                                  const Vector3f& absorption, float weight, const Cone& cone,
+                                                  const Vector3f& absorption, const Branch& branch, const Cone& cone,
                                                   const Sample& sample, RayCounters& counters,
                                                   bool* hitSomething) const {
   const FrameScene& f = f_;
@@ -245,17 +287,30 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
   const Vector3f albedo = filtered ? f.filteredAlbedo(hit, direction, width) : hit.albedo;
   const Vector3f edgeAlbedo = !sample.edges ? Vector3f::Zero() : filtered ? f.meanAlbedo(hit) : albedo;
   Traced radiance, secondary;  // secondary: what the rays leaving a camera ray's hit add, clamped
-  const auto follow = [&](const ScatterSample& s, const Vector3f& factor) {
-    const float branch = weight * factor.maxCoeff();
-    if (!(branch >= kWhittedCutoff)) return;
+  const Vector3f throughput = branch.throughput.cwiseProduct(attenuation);
+  // the primary diffuse vertex's sky term, for the sky filter; `factor` times the sky light
+  // (albedo 1) is its radiance here
+  const auto primarySky = [&](const Vector3f& factor, const Vector3f& sky) {
+    if (!branch.primary || !sample.primary) return;
+    PathFeatures& p = *sample.primary;
+    p.skyWeight = throughput.cwiseProduct(factor);
+    p.sky = p.skyWeight.cwiseProduct(sky);
+    p.depth = branch.distance + hit.t;
+    p.objectId = hit.objectId;
+    p.normal = wo.dot(hit.ns) >= 0.0f ? hit.ns : Vector3f(-hit.ns);
+  };
+  const auto follow = [&](const ScatterSample& s, const Vector3f& factor, bool primary) {
+    const Branch next{branch.weight * factor.maxCoeff(), throughput.cwiseProduct(factor), branch.distance + hit.t,
+                      branch.primary && primary};
+    if (!(next.weight >= kWhittedCutoff)) return;
     Vector3f medium = absorption;
-    Cone next{width, cone.spread};
+    Cone cone2{width, cone.spread};
     if (s.transmitted && hit.material) {
       const bool entering = wo.dot(hit.ng) > 0.0f;
       medium = entering ? material.absorption : Vector3f::Zero();
-      next.spread *= entering ? 1.0f / material.ior : material.ior;
+      cone2.spread *= entering ? 1.0f / material.ior : material.ior;
     }
-    const Traced t = trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, branch, next, sample, counters, nullptr);
+    const Traced t = trace(f.leave(hit, s.direction), s.direction, depth + 1, medium, next, cone2, sample, counters, nullptr);
     Traced& to = depth == 0 ? secondary : radiance;
     to.value += factor.cwiseProduct(t.value);
     if (sample.edges) to.edge += factor.cwiseProduct(t.edge);
@@ -271,27 +326,31 @@ WhittedIntegrator::Traced WhittedIntegrator::trace(const Vector3f& origin, const
   constexpr float kAlmostOne = 1.0f - 0x1p-24f;
   switch (material.type) {
     case MaterialType::Diffuse: {
-      const Vector3f light = direct(hit, wo, sample, counters);
+      const Direct d = direct(hit, wo, sample, counters);
+      const Vector3f light = d.lights + d.sky;
+      primarySky(albedo, d.sky);
       radiance.value = albedo.cwiseProduct(light);
       if (sample.edges) radiance.edge = edgeAlbedo.cwiseProduct(light);
       break;
     }
     case MaterialType::Mirror:
-      if (sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s)) follow(s, s.weight);
+      if (sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s)) follow(s, s.weight, true);
       break;
     case MaterialType::Dielectric: {
       const float F = fresnel();
       if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s))
-        follow(s, Vector3f::Constant(F));
+        follow(s, Vector3f::Constant(F), F > 0.5f);
       if (F < 1.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, kAlmostOne, 0.5f, 0.5f, s))
-        follow(s, Vector3f::Constant(1.0f - F));
+        follow(s, Vector3f::Constant(1.0f - F), F <= 0.5f);
       break;
     }
     case MaterialType::Translucent: {
       const float F = fresnel();
       if (F > 0.0f && sampleMaterial(material, hit.albedo, wo, hit.ns, hit.ng, 0.0f, 0.5f, 0.5f, s) && !s.transmitted)
-        follow(s, Vector3f::Constant(F));
-      const Vector3f light = direct(hit, wo, sample, counters) * (1.0f - F);
+        follow(s, Vector3f::Constant(F), false);
+      const Direct d = direct(hit, wo, sample, counters);
+      const Vector3f light = (d.lights + d.sky) * (1.0f - F);
+      primarySky(albedo.cwiseProduct(albedo) * (1.0f - F), d.sky);
       radiance.value += albedo.cwiseProduct(albedo).cwiseProduct(light);
       if (sample.edges) radiance.edge += edgeAlbedo.cwiseProduct(edgeAlbedo).cwiseProduct(light);
       break;
