@@ -114,9 +114,9 @@ std::vector<BenchRow> rmseRows() {
                         s.whitted.adaptive.enabled = false;
                         s.whitted.skyFilter.enabled = false;
                       }});
-  for (const auto& [spp, sky, tile] : {std::tuple{2, 4, 4}, std::tuple{3, 4, 4}, std::tuple{4, 4, 4}, std::tuple{3, 2, 4},
-                                       std::tuple{4, 2, 4}, std::tuple{4, 4, 3}, std::tuple{4, 2, 3}, std::tuple{6, 2, 4},
-                                       std::tuple{4, 1, 4}, std::tuple{4, 2, 5}})
+  for (const auto& [spp, sky, tile] : {std::tuple{3, 4, 3}, std::tuple{4, 2, 3}, std::tuple{4, 3, 3}, std::tuple{4, 4, 3},
+                                       std::tuple{3, 4, 5}, std::tuple{4, 2, 5}, std::tuple{4, 3, 5}, std::tuple{4, 4, 4},
+                                       std::tuple{4, 2, 4}, std::tuple{6, 2, 3}})
     rows.push_back({"whitted, sky filter " + std::to_string(tile) + "x" + std::to_string(tile) + ", " +
                         std::to_string(spp) + " spp, " + std::to_string(sky) + " sky rays",
                     [spp, sky, tile](S& s) {
