@@ -369,16 +369,16 @@ TEST(Sampling, CosineDirectionFromItsLocalPartsIsTheWholeWarpBitForBit) {
   }
 }
 
-TEST(Whitted, SkyDirectionsDifferFromSampleToSampleOfAPixel) {
-  // The ground (albedo 1) under a uniform sky of radiance 1 beside a long opaque wall 1 m high,
-  // seen from straight above along a row of 64 pixels from d = 0.1 to 2.1 m off the wall. The wall
-  // hides (1 - d / sqrt(d^2 + h^2)) / 2 of the sky's projected solid angle, so the ground shows
-  // (1 + d / sqrt(d^2 + h^2)) / 2. Each of a pixel's samples takes its own sky_directions of one
-  // Hammersley set of sky_directions x samples points: 4 directions at 16 samples follow the curve
-  // as 64 would. With one sample, every pixel uses the same 4 directions, so the estimate steps in
-  // quarters and the wall's sky shadow is a set of hard copies of it.
-  const float h = 1.0f;
-  const kr::TriangleMesh wall = box({0.05f, 0, 0.5f * h}, {0.05f, 100, 0.5f * h}, Eigen::Matrix3f::Identity());
+namespace {
+
+// A long opaque wall h high, 0.1 m thick, along y from x = 0.
+kr::TriangleMesh wallMesh(float h) {
+  return box({0.05f, 0, 0.5f * h}, {0.05f, 100, 0.5f * h}, Eigen::Matrix3f::Identity());
+}
+
+// The ground (albedo 1) beside `wall` under a uniform sky of radiance 1, no sun, seen from 20 m
+// straight above x = -1.1 m: `width` pixels span 2 m in x, `height` rows at the same pitch.
+kr::RenderScene wallScene(const kr::TriangleMesh& wall, int width, int height) {
   kr::RenderScene scene;
   scene.environment.type = kr::EnvironmentType::Uniform;
   scene.environment.zenith = Vector3f::Ones();
@@ -389,8 +389,24 @@ TEST(Whitted, SkyDirectionsDifferFromSampleToSampleOfAPixel) {
   scene.camera.position = {-1.1f, 0, 20};
   scene.camera.lookAt = {-1.1f, 0, 0};
   scene.camera.up = {0, 1, 0};
+  scene.camera.verticalFovDegrees = 2.0f * std::atan(float(height) / (20.0f * float(width))) * 180.0f / kPi;
+  return scene;
+}
+
+}  // namespace
+
+TEST(Whitted, SkyDirectionsDifferFromSampleToSampleOfAPixel) {
+  // The ground (albedo 1) under a uniform sky of radiance 1 beside a long opaque wall 1 m high,
+  // seen from straight above along a row of 64 pixels from d = 0.1 to 2.1 m off the wall. The wall
+  // hides (1 - d / sqrt(d^2 + h^2)) / 2 of the sky's projected solid angle, so the ground shows
+  // (1 + d / sqrt(d^2 + h^2)) / 2. Each of a pixel's samples takes its own sky_directions of one
+  // Hammersley set of sky_directions x samples points: 4 directions at 16 samples follow the curve
+  // as 64 would. With one sample, every pixel uses the same 4 directions, so the estimate steps in
+  // quarters and the wall's sky shadow is a set of hard copies of it.
+  const float h = 1.0f;
+  const kr::TriangleMesh wall = wallMesh(h);
   const int width = 64;
-  scene.camera.verticalFovDegrees = 2.0f * std::atan(1.0f / (20.0f * width)) * 180.0f / kPi;  // the row spans 2 m
+  const kr::RenderScene scene = wallScene(wall, width, 1);
   kr::RenderSettings settings;
   settings.integrator = kr::IntegratorType::Whitted;
   settings.whitted.skyDirections = 4;
@@ -923,19 +939,9 @@ TEST(Whitted, InterleavedSkyFollowsAWallsSkyShadow) {
   // sky directions the sky filter (4 x 4) follows the wall's sky shadow within a third of the
   // unfiltered error (the window reaches 2 pixels, 6 cm, across the curve).
   const float h = 1.0f;
-  const kr::TriangleMesh wall = box({0.05f, 0, 0.5f * h}, {0.05f, 100, 0.5f * h}, Eigen::Matrix3f::Identity());
-  kr::RenderScene scene;
-  scene.environment.type = kr::EnvironmentType::Uniform;
-  scene.environment.zenith = Vector3f::Ones();
-  scene.sun.irradiance = Vector3f::Zero();
-  scene.ground.checkerSize = 0.0f;
-  scene.ground.albedoA = Vector3f::Ones();
-  scene.meshes.push_back({&wall, kr::Material{}});
-  scene.camera.position = {-1.1f, 0, 20};
-  scene.camera.lookAt = {-1.1f, 0, 0};
-  scene.camera.up = {0, 1, 0};
+  const kr::TriangleMesh wall = wallMesh(h);
   const int width = 64, height = 8;
-  scene.camera.verticalFovDegrees = 2.0f * std::atan(float(height) / (20.0f * width)) * 180.0f / kPi;
+  const kr::RenderScene scene = wallScene(wall, width, height);
   kr::RenderSettings settings;
   settings.integrator = kr::IntegratorType::Whitted;
   settings.whitted.skyDirections = 4;
