@@ -157,14 +157,14 @@ TEST(FullDisk, EveryStageFailsCleanly) {
   const fs::path out = dir.path() / "out";
   const fs::path log = dir.path() / "log.txt";
   const std::string scene = kTinyScene.string() + " -o " + out.string() + " --threads 2 ";
-  // sim: the caches are ~11 KB each (run.json, written first, ~6 KB).
-  expectCleanFailure(runKurageLimited("sim " + scene, 8, log), log, "particles/0000.vdb", out);
+  // sim: the caches are ~11 KB each (run.json, written first, ~8 KB).
+  expectCleanFailure(runKurageLimited("sim " + scene, 10, log), log, "particles/0000.vdb", out);
   EXPECT_FALSE(fs::exists(out / "particles/0000.vdb"));
   ASSERT_EQ(test::runKurage("sim " + scene, log), 0) << readText(log);
   // surface: ~170 KB each.
   expectCleanFailure(runKurageLimited("surface " + scene, 64, log), log, "surfaces/0000.vdb", out);
   ASSERT_EQ(test::runKurage("surface " + scene, log), 0) << readText(log);
-  // render: frames of 256 x 192 are over 16 KB (run.json, written first, is ~6 KB).
+  // render: frames of 256 x 192 are over 16 KB (run.json, written first, is ~10 KB).
   expectCleanFailure(runKurageLimited("render --no-video --width 256 --height 192 --spp 1 " + scene, 16, log), log,
                      "frames/0000.png", out);
   EXPECT_FALSE(fs::exists(out / "frames/0000.png"));
@@ -177,7 +177,7 @@ TEST(FullDisk, AFileSizeLimitWithTheSignalLeftAloneFailsCleanlyToo) {
   const fs::path out = dir.path() / "out";
   const fs::path log = dir.path() / "log.txt";
   const std::string scene = kTinyScene.string() + " -o " + out.string() + " --threads 2 ";
-  expectCleanFailure(runKurageLimited("sim " + scene, 8, log, false), log, "particles/0000.vdb", out);
+  expectCleanFailure(runKurageLimited("sim " + scene, 10, log, false), log, "particles/0000.vdb", out);
   EXPECT_EQ(nlohmann::json::parse(readText(out / "run.json"))["status"], "failed");
   ASSERT_EQ(test::runKurage("sim " + scene, log), 0) << readText(log);
   expectCleanFailure(runKurageLimited("surface " + scene, 64, log, false), log, "surfaces/0000.vdb", out);
