@@ -92,10 +92,10 @@ double waterLevel(const sim::SimParams& params, const sim::ParticleSet& p) {
                      params.fluid.supportRadiusMetres(), params.fluid.spacing);
 }
 
-namespace {
-// bodiesDisplacement with the weight 1 up to `full` beyond the contact distance, 0 from `reach`.
-double nearBodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& p, double level, double full, double reach) {
+double bodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& p, double level) {
   const sim::ContainerParams& box = params.container;
+  // The weight: 1 up to `full` beyond the contact distance, 0 from `reach`.
+  const double full = params.fluid.spacing, reach = 2.0 * params.fluid.supportRadiusMetres();
   // Each body particle's fluid-contact distance as built.
   std::vector<std::pair<Eigen::Vector3f, float>> contacts;
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max()), hi = -lo;
@@ -163,12 +163,6 @@ double nearBodiesDisplacement(const sim::SimParams& params, const sim::ParticleS
   }
   const Eigen::Vector3f floor = box.max - box.min;
   return (volume - water) / (double(floor.x()) * double(floor.y()));
-}
-
-}  // namespace
-
-double bodiesDisplacement(const sim::SimParams& params, const sim::ParticleSet& p, double level) {
-  return nearBodiesDisplacement(params, p, level, params.fluid.spacing, 2.0 * params.fluid.supportRadiusMetres());
 }
 
 void HydrostaticTrack::record(const sim::ParticleSet& p) {
